@@ -1,0 +1,22 @@
+"""Errors raised by hybrid_integrator.
+
+Every error names the offending thing (the variant, the shape, the sensor, the file, the missing
+system package) so that a user can act on it without reading the source.
+"""
+
+
+class HybridError(RuntimeError):
+    """Base class of every error this package raises on purpose."""
+
+
+class UnsupportedVariantError(HybridError):
+    """The active Mitsuba variant is not a JIT RGB variant (``llvm_ad_rgb``, ``cuda_ad_rgb``, ...)."""
+
+
+class UnsupportedSceneError(HybridError):
+    """The scene holds something the raster stage cannot draw (shape type, sensor, crop window,
+    non-finite geometry)."""
+
+
+class RasterContextError(HybridError):
+    """No headless OpenGL context could be created."""

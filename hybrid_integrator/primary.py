@@ -1,0 +1,70 @@
+"""Primary hits: from a visibility buffer to exact Mitsuba surface interactions (paper §3.2).
+
+The hybrid's ray tracer starts where the rasterizer stopped. For every pixel the visibility buffer
+names the shape, the triangle and the barycentrics of the first hit; a Mitsuba
+``PreliminaryIntersection3f`` built from them and completed with
+``compute_surface_interaction`` against the real camera ray is the *same* interaction Mitsuba's own
+ray tracer would have produced (position from the barycentrics, shading frame, UVs, ``wi``), so the
+secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
+
+Pixels of tessellated analytic shapes (``proxy``) are refined by tracing their camera ray: the
+proxy only says that the exact shape may be there.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from .raster.camera import RasterCamera
+from .raster.visibility import VisibilityBuffer
+
+
+@dataclass
+class PrimaryHits:
+    """Camera rays and first-hit interactions of every pixel (row-major, row 0 at the top)."""
+
+    ray: mi.Ray3f
+    si: mi.SurfaceInteraction3f
+    #: index into ``scene.shapes()`` of each pixel's hit (after proxy refinement)
+    shape_index: mi.UInt32
+    #: the pixel's first hit is a surface (background pixels and proxy misses are False)
+    valid: mi.Bool
+    #: pixels whose hit came from a ray because the raster saw an analytic shape's proxy
+    proxy_refined: int
+
+
+def camera_rays(sensor: mi.Sensor, camera: RasterCamera, offset: tuple[float, float]) -> mi.Ray3f:
+    """Mitsuba's camera rays through every pixel at sub-pixel ``offset`` (the rays the raster
+    stands in for, and the primary rays of the pure ray-tracing baseline)."""
+    x, y = camera.sample_positions(offset)
+    ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(mi.Float(x), mi.Float(y)), mi.Point2f(0.5, 0.5))
+    return ray
+
+
+def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, vis: VisibilityBuffer) -> PrimaryHits:
+    """Rebuild Mitsuba's surface interactions from the visibility buffer ``vis``."""
+    ray = camera_rays(sensor, camera, vis.offset)
+    shape_index = mi.UInt32(np.maximum(vis.shape_index, 0).ravel().astype(np.uint32))
+    raster_hit = mi.Bool(vis.hit.ravel() & ~vis.proxy.ravel())
+    proxy = mi.Bool(vis.proxy.ravel())
+    # Mitsuba's camera rays start on the near plane; the raster measures from the eye
+    near_t = dr.norm(ray.o - mi.Point3f(*(float(c) for c in camera.eye)))
+
+    pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))
+    pi.t = dr.select(raster_hit, mi.Float(vis.depth.ravel()) - near_t, dr.inf)
+    pi.prim_uv = mi.Point2f(mi.Float(vis.bary[..., 0].ravel()), mi.Float(vis.bary[..., 1].ravel()))
+    pi.prim_index = mi.UInt32(vis.prim_index.ravel())
+    pi.shape_index = shape_index
+    pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), shape_index, raster_hit)
+    pi.valid = raster_hit
+
+    n_proxy = int(vis.proxy.sum())
+    if n_proxy:
+        pi = dr.select(proxy, scene.ray_intersect_preliminary(ray, False, proxy), pi)
+    valid = pi.is_valid()
+    si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
+    return PrimaryHits(ray=ray, si=si, shape_index=dr.select(valid, pi.shape_index, 0), valid=valid,
+                       proxy_refined=n_proxy)

@@ -1,0 +1,118 @@
+"""The Mitsuba sensor as an OpenGL projection, pixel-exact (paper §7: the geometry stage's
+perspective camera).
+
+Mitsuba maps a film sample ``s`` in [0,1]² (row 0 at the top) to a camera-space point with
+``sample_to_camera(s + principal_point_offset)``; its inverse, ``camera_to_sample``, comes from
+Mitsuba's own :func:`mitsuba.perspective_projection`. The raster camera is that transform followed
+by the affine map from sample space to OpenGL's normalized device coordinates::
+
+    x_ndc = 2 (x_s - ppx) - 1 + (1 - 2 ox) / W        y_ndc = 2 (y_s - ppy) - 1 + (1 - 2 oy) / H
+
+where ``(ox, oy)`` is the sub-pixel sample position: OpenGL rasterizes at pixel centres, so the
+shift moves the point Mitsuba would sample at ``(i + ox) / W`` onto the centre of pixel ``i``.
+Image row 0 lands on OpenGL's row 0, so a read-back needs no flip; the mirror flips the winding, so
+face culling stays off. ``fov_axis`` needs no special case: Mitsuba has already converted every
+axis convention to ``x_fov`` when it built the sensor.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mitsuba as mi
+import numpy as np
+
+from ..errors import UnsupportedSceneError
+
+SUPPORTED_SENSOR = "PerspectiveCamera"
+
+
+@dataclass(frozen=True)
+class RasterCamera:
+    """What the raster stage needs of a Mitsuba ``perspective`` sensor."""
+
+    width: int
+    height: int
+    #: world → clip transform for a sample at the pixel centre (float64, column vectors)
+    world_to_clip: np.ndarray
+    #: centre of projection in world space
+    eye: np.ndarray
+    near_clip: float
+    far_clip: float
+
+    @classmethod
+    def from_sensor(cls, sensor: mi.Sensor) -> "RasterCamera":
+        """Build the camera of ``sensor``, or raise :class:`UnsupportedSceneError` for a sensor
+        type other than ``perspective`` or a film with a crop window."""
+        kind = sensor.class_name()
+        if kind != SUPPORTED_SENSOR:
+            raise UnsupportedSceneError(
+                f"sensor type '{kind}' is not supported: the raster stage needs a 'perspective' "
+                "sensor (pinhole camera)")
+        film = sensor.film()
+        size, crop_size, crop_offset = film.size(), film.crop_size(), film.crop_offset()
+        if tuple(crop_size) != tuple(size) or tuple(crop_offset) != (0, 0):
+            raise UnsupportedSceneError(
+                f"film crop window (offset {tuple(crop_offset)}, size {tuple(crop_size)} of "
+                f"{tuple(size)}) is not supported: render the full film")
+        params = mi.traverse(sensor)
+        x_fov = float(params["x_fov"][0])
+        ppx = float(params["principal_point_offset_x"][0])
+        ppy = float(params["principal_point_offset_y"][0])
+        near, far = sensor.near_clip(), sensor.far_clip()
+        camera_to_sample = _matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
+        camera_to_world = _matrix(params["to_world"])
+        sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
+                                  [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
+                                  [0.0, 0.0, 2.0, -1.0],
+                                  [0.0, 0.0, 0.0, 1.0]])
+        world_to_clip = sample_to_ndc @ camera_to_sample @ np.linalg.inv(camera_to_world)
+        return cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
+                   eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far))
+
+    def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
+        """world → clip for samples at sub-pixel position ``offset`` ∈ [0,1)² in every pixel."""
+        ox, oy = offset
+        shift = np.eye(4)
+        shift[0, 3] = (1.0 - 2.0 * ox) / self.width
+        shift[1, 3] = (1.0 - 2.0 * oy) / self.height
+        return shift @ self.world_to_clip
+
+    def sample_positions(self, offset: tuple[float, float] = (0.5, 0.5)) -> tuple[np.ndarray, np.ndarray]:
+        """Film sample positions ``((i + ox) / W, (j + oy) / H)`` of every pixel, row-major
+        (row 0 at the top): what Mitsuba's ``sensor.sample_ray`` takes as ``sample2``."""
+        j, i = np.mgrid[0:self.height, 0:self.width]
+        return ((i.ravel() + offset[0]) / self.width, (j.ravel() + offset[1]) / self.height)
+
+
+def _matrix(transform) -> np.ndarray:
+    """A Mitsuba transform (one-lane JIT or scalar) as a 4×4 float64 numpy matrix."""
+    return np.array(transform.matrix, dtype=np.float64).reshape(4, 4)
+
+
+def resolve_sensor(scene: mi.Scene, sensor: int | mi.Sensor) -> mi.Sensor:
+    """Mitsuba's convention for ``sensor`` arguments: an index into ``scene.sensors()`` or a sensor."""
+    if isinstance(sensor, mi.Sensor):
+        return sensor
+    sensors = scene.sensors()
+    if not 0 <= int(sensor) < len(sensors):
+        raise UnsupportedSceneError(f"sensor index {sensor} is out of range: the scene has {len(sensors)} sensor(s)")
+    return sensors[int(sensor)]
+
+
+def sensor_like(sensor: mi.Sensor, width: int, height: int, fov_axis: str = "x",
+                principal_point: tuple[float, float] = (0.0, 0.0)) -> mi.Sensor:
+    """A ``perspective`` sensor at ``sensor``'s pose with the same horizontal field of view but
+    another film size, ``fov_axis`` convention or principal point offset, built by Mitsuba's own
+    plugin (for resolution sweeps and for checking the camera conventions)."""
+    params = mi.traverse(sensor)
+    to_world = mi.ScalarTransform4f(_matrix(params["to_world"]))
+    aspect = width / height
+    half_x = np.tan(np.radians(float(params["x_fov"][0])) / 2)
+    half = {"x": half_x, "y": half_x / aspect, "diagonal": half_x * np.hypot(1.0, 1.0 / aspect),
+            "smaller": half_x / aspect if aspect > 1 else half_x,
+            "larger": half_x if aspect > 1 else half_x / aspect}[fov_axis]
+    return mi.load_dict({
+        "type": "perspective", "to_world": to_world, "fov": float(np.degrees(2 * np.arctan(half))),
+        "fov_axis": fov_axis, "near_clip": sensor.near_clip(), "far_clip": sensor.far_clip(),
+        "principal_point_offset_x": float(principal_point[0]), "principal_point_offset_y": float(principal_point[1]),
+        "film": {"type": "hdrfilm", "width": int(width), "height": int(height)}})

@@ -1,0 +1,103 @@
+"""Geometry of the raster stage, read from the loaded Mitsuba scene (paper §3.1, §7).
+
+There is one scene model, Mitsuba's: every mesh shape is drawn from its own world-space vertex
+and face buffers (``vertex_positions_buffer``, ``faces_buffer``), so a raster triangle index *is*
+Mitsuba's ``prim_index``. Analytic ``sphere``, ``disk`` and ``cylinder`` shapes have no triangles:
+they are drawn as tessellated *proxies* that enclose the exact surface (the polygon is scaled out
+by ``1/cos(π/n)`` so that no pixel of the true shape is missed), and their pixels are flagged so
+that the ray tracer refines them with a real ray. Any other shape type is refused by name.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mitsuba as mi
+import numpy as np
+
+from ..errors import UnsupportedSceneError
+
+#: segments around the circumference of a proxy
+PROXY_SEGMENTS = 64
+PROXY_TYPES = ("Sphere", "Disk", "Cylinder")
+
+
+@dataclass(frozen=True)
+class ShapeGeometry:
+    """Triangles of one shape, in world space, as the GPU draws them."""
+
+    name: str
+    positions: np.ndarray  # (n_vertices, 3) float32, world space
+    faces: np.ndarray  # (n_faces, 3) uint32
+    proxy: bool  # True for a tessellated analytic shape
+
+
+def scene_geometry(scene: mi.Scene) -> list[ShapeGeometry]:
+    """One :class:`ShapeGeometry` per ``scene.shapes()`` entry, in that order (the order of
+    ``shape_index``). Raises :class:`UnsupportedSceneError` for shape types that have neither
+    triangles nor a proxy, and for non-finite vertex positions."""
+    return [shape_geometry(shape, index) for index, shape in enumerate(scene.shapes())]
+
+
+def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:
+    name = shape.id() or f"shape #{index}"
+    kind = shape.class_name()
+    if shape.is_mesh():
+        positions = np.array(shape.vertex_positions_buffer(), dtype=np.float32).reshape(-1, 3)
+        faces = np.array(shape.faces_buffer(), dtype=np.uint32).reshape(-1, 3)
+        proxy = False
+    elif kind in PROXY_TYPES:
+        positions, faces = _PROXIES[kind]()
+        to_world = np.array(mi.traverse(shape)["to_world"].matrix, dtype=np.float64).reshape(4, 4)
+        positions = (positions @ to_world[:3, :3].T + to_world[:3, 3]).astype(np.float32)
+        proxy = True
+    else:
+        raise UnsupportedSceneError(
+            f"shape '{name}' has type '{kind}', which the raster stage cannot draw: use a mesh "
+            f"(obj, ply, serialized, rectangle, cube) or one of sphere, disk, cylinder")
+    if not np.isfinite(positions).all():
+        bad = int((~np.isfinite(positions)).any(axis=1).sum())
+        raise UnsupportedSceneError(f"shape '{name}' has {bad} vertices with NaN or infinite positions")
+    return ShapeGeometry(name=name, positions=positions, faces=faces, proxy=proxy)
+
+
+def _ring(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """cos/sin of ``n`` angles round the circle, scaled so the n-gon encloses the unit circle."""
+    phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    scale = 1.0 / np.cos(np.pi / n)
+    return scale * np.cos(phi), scale * np.sin(phi)
+
+
+def _sphere_proxy(n: int = PROXY_SEGMENTS) -> tuple[np.ndarray, np.ndarray]:
+    """Unit sphere (Mitsuba's local frame), a latitude/longitude mesh that encloses it."""
+    rings = n // 2
+    theta = np.linspace(0.0, np.pi, rings + 1)
+    scale = 1.0 / np.cos(np.pi / (2 * rings))  # the latitude polygon encloses the meridian circle
+    cx, sy = _ring(n)
+    r = scale * np.sin(theta)[:, None]
+    z = scale * np.cos(theta)[:, None]
+    pos = np.stack([r * cx, r * sy, np.broadcast_to(z, (rings + 1, n))], axis=-1).reshape(-1, 3)
+    a = np.arange(rings)[:, None] * n + np.arange(n)[None, :]
+    b = np.arange(rings)[:, None] * n + (np.arange(n)[None, :] + 1) % n
+    faces = np.concatenate([np.stack([a, b, a + n], -1).reshape(-1, 3),
+                            np.stack([b, b + n, a + n], -1).reshape(-1, 3)])
+    return pos, faces.astype(np.uint32)
+
+
+def _disk_proxy(n: int = PROXY_SEGMENTS) -> tuple[np.ndarray, np.ndarray]:
+    """Unit disk in the z = 0 plane, a triangle fan that encloses it."""
+    cx, sy = _ring(n)
+    pos = np.concatenate([[[0.0, 0.0, 0.0]], np.stack([cx, sy, np.zeros(n)], -1)])
+    k = np.arange(n)
+    return pos, np.stack([np.zeros(n, int), 1 + k, 1 + (k + 1) % n], -1).astype(np.uint32)
+
+
+def _cylinder_proxy(n: int = PROXY_SEGMENTS) -> tuple[np.ndarray, np.ndarray]:
+    """Open unit cylinder along z ∈ [0, 1], a tube that encloses it."""
+    cx, sy = _ring(n)
+    pos = np.concatenate([np.stack([cx, sy, np.zeros(n)], -1), np.stack([cx, sy, np.ones(n)], -1)])
+    k = np.arange(n)
+    faces = np.concatenate([np.stack([k, (k + 1) % n, k + n], -1), np.stack([(k + 1) % n, (k + 1) % n + n, k + n], -1)])
+    return pos, faces.astype(np.uint32)
+
+
+_PROXIES = {"Sphere": _sphere_proxy, "Disk": _disk_proxy, "Cylinder": _cylinder_proxy}

@@ -1,0 +1,83 @@
+"""Bad input gets a clear error that names the problem."""
+from __future__ import annotations
+
+import mitsuba as mi
+import pytest
+
+import hybrid_integrator as hi
+from hybrid_integrator.cli import main as cli
+from hybrid_integrator.scene import load_scene
+from conftest import DEFAULT_SCENE, load
+
+
+def test_non_jit_variant(capsys):
+    mi.set_variant("scalar_rgb")
+    try:
+        scene = mi.load_dict({"type": "scene", "sensor": {"type": "perspective"}, "s": {"type": "cube"}})
+        with pytest.raises(hi.UnsupportedVariantError, match="'scalar_rgb' is not supported.*llvm_ad_rgb"):
+            hi.rasterize(scene)
+    finally:
+        mi.set_variant("llvm_ad_rgb")
+    assert cli(["gbuffer", str(DEFAULT_SCENE), "--variant", "scalar_rgb"]) == 2
+    assert "'scalar_rgb' is not supported" in capsys.readouterr().err
+
+
+def test_unsupported_shape_type(tmp_path):
+    curve = tmp_path / "curve.txt"
+    curve.write_text("0 0 0 0.1\n0 1 0 0.1\n")
+    scene = mi.load_dict({"type": "scene", "sensor": {"type": "perspective"},
+                          "hair": {"type": "linearcurve", "filename": str(curve)}})
+    with pytest.raises(hi.UnsupportedSceneError, match="shape 'hair' has type 'LinearCurve'"):
+        hi.rasterize(scene)
+
+
+def test_orthographic_sensor():
+    scene = mi.load_dict({"type": "scene", "sensor": {"type": "orthographic"}, "s": {"type": "cube"}})
+    with pytest.raises(hi.UnsupportedSceneError, match="sensor type 'OrthographicCamera' is not supported"):
+        hi.rasterize(scene)
+
+
+def test_crop_window():
+    scene = mi.load_dict({"type": "scene", "s": {"type": "cube"}, "sensor": {
+        "type": "perspective", "film": {"type": "hdrfilm", "width": 64, "height": 64,
+                                        "crop_width": 32, "crop_height": 32, "crop_offset_x": 8}}})
+    with pytest.raises(hi.UnsupportedSceneError, match="crop window"):
+        hi.rasterize(scene)
+
+
+def test_missing_scene_file(tmp_path, capsys):
+    with pytest.raises(hi.HybridError, match="scene file not found: .*nowhere.xml"):
+        load_scene(tmp_path / "nowhere.xml")
+    assert cli(["gbuffer", str(tmp_path / "nowhere.xml")]) == 2
+    assert "scene file not found" in capsys.readouterr().err
+
+
+def test_malformed_scene_file(tmp_path):
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<scene version='3.0.0'><shape type='cube'>")
+    with pytest.raises(hi.HybridError, match="cannot load scene .*bad.xml"):
+        load_scene(bad)
+
+
+def test_nan_geometry():
+    mesh = mi.Mesh("broken", 3, 1)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = [0, 0, 0, 1, 0, float("nan"), 0, 1, 0]
+    params["faces"] = [0, 1, 2]
+    params.update()
+    scene = mi.load_dict({"type": "scene", "sensor": {"type": "perspective"}, "broken": mesh})
+    with pytest.raises(hi.UnsupportedSceneError, match="shape 'broken' has 1 vertices with NaN"):
+        hi.rasterize(scene)
+
+
+def test_bad_aov_and_offset():
+    scene = load(DEFAULT_SCENE)
+    with pytest.raises(hi.HybridError, match=r"unknown G-buffer AOV\(s\) \['colour'\]"):
+        hi.rasterize(scene, aovs=("colour",))
+    with pytest.raises(hi.HybridError, match=r"offset \(1.0, 0.5\) must lie in \[0, 1\)"):
+        hi.rasterize(scene, offset=(1.0, 0.5))
+
+
+def test_sensor_index_out_of_range():
+    with pytest.raises(hi.UnsupportedSceneError, match="sensor index 3 is out of range"):
+        hi.rasterize(load(DEFAULT_SCENE), sensor=3)
