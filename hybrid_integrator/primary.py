@@ -39,9 +39,23 @@ class PrimaryHits:
 def camera_rays(sensor: mi.Sensor, camera: RasterCamera, offset: tuple[float, float]) -> mi.Ray3f:
     """Mitsuba's camera rays through every pixel at sub-pixel ``offset`` (the rays the raster
     stands in for, and the primary rays of the pure ray-tracing baseline)."""
-    x, y = camera.sample_positions(offset)
-    ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(mi.Float(x), mi.Float(y)), mi.Point2f(0.5, 0.5))
+    index = dr.arange(mi.UInt32, camera.width * camera.height)
+    position = mi.Point2f((mi.Float(index % camera.width) + offset[0]) / camera.width,
+                          (mi.Float(index // camera.width) + offset[1]) / camera.height)
+    ray, _ = sensor.sample_ray(0.0, 0.5, position, mi.Point2f(0.5, 0.5))
     return ray
+
+
+def shape_indices(scene: mi.Scene, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UInt32:
+    """Index into ``scene.shapes()`` of each lane's ``shape`` pointer.
+
+    ``PreliminaryIntersection3f.shape_index`` is filled by the LLVM backend's ray tracer but not by
+    OptiX, so indices are recovered from the pointers themselves: a shape pointer is an id in
+    Dr.Jit's registry, mapped back through a small lookup table."""
+    ids = np.array(dr.reinterpret_array(mi.UInt32, scene.shapes_dr()), dtype=np.int64)
+    table = np.zeros(ids.max() + 1, dtype=np.uint32)
+    table[ids] = np.arange(len(ids), dtype=np.uint32)
+    return dr.gather(mi.UInt32, mi.UInt32(table), dr.reinterpret_array(mi.UInt32, shape), valid)
 
 
 def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, vis: VisibilityBuffer) -> PrimaryHits:
@@ -66,5 +80,5 @@ def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, vis: 
         pi = dr.select(proxy, scene.ray_intersect_preliminary(ray, False, proxy), pi)
     valid = pi.is_valid()
     si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
-    return PrimaryHits(ray=ray, si=si, shape_index=dr.select(valid, pi.shape_index, 0), valid=valid,
+    return PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, pi.shape, valid), valid=valid,
                        proxy_refined=n_proxy)

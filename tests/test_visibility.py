@@ -110,3 +110,19 @@ def test_linear_depth_keeps_precision_far_away():
                            "to_world": mi.ScalarTransform4f().look_at(origin=[3, 2, 1000], target=[0.01, 0.02, 0], up=[0, 1, 0]),
                            "film": {"type": "hdrfilm", "width": 320, "height": 240}})
     check(scene, sensor, (0.3, 0.6))
+
+
+def test_shape_indices_from_pointers_match_mitsuba():
+    """The pointer → index map (needed where OptiX leaves shape_index unset) agrees with Embree's."""
+    import drjit as dr
+    from hybrid_integrator.primary import camera_rays, shape_indices
+    from hybrid_integrator.raster.camera import RasterCamera
+
+    scene = load(SHARED_SCENES / "cbox/showcase_coloured_glass.xml", resx=1280, resy=720)
+    sensor = scene.sensors()[0]
+    pi = scene.ray_intersect_preliminary(camera_rays(sensor, RasterCamera.from_sensor(sensor), (0.5, 0.5)))
+    valid = pi.is_valid()
+    mapped = np.array(shape_indices(scene, pi.shape, valid))[np.array(valid)]
+    assert len(np.unique(mapped)) == len(scene.shapes())
+    assert np.array_equal(mapped, np.array(pi.shape_index)[np.array(valid)])
+    assert dr.width(valid) == 1280 * 720

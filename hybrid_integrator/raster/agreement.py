@@ -13,7 +13,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from ..primary import camera_rays
+from ..primary import camera_rays, shape_indices
 from .camera import RasterCamera
 from .visibility import VisibilityBuffer
 
@@ -38,7 +38,8 @@ def visibility_agreement(scene: mi.Scene, sensor: mi.Sensor, vis: VisibilityBuff
     ray = camera_rays(sensor, camera, vis.offset)
     pi = scene.ray_intersect_preliminary(ray)
     hit = np.array(pi.is_valid()).reshape(vis.depth.shape)
-    shape = np.where(hit, np.array(pi.shape_index, dtype=np.int64).reshape(hit.shape), -1)
+    index = shape_indices(scene, pi.shape, pi.is_valid())
+    shape = np.where(hit, np.array(index, dtype=np.int64).reshape(hit.shape), -1)
     prim = np.array(pi.prim_index, dtype=np.int64).reshape(hit.shape)
     # Mitsuba's camera rays start on the near plane; the raster's depth is measured from the eye
     eye = mi.Point3f(*(float(c) for c in camera.eye))

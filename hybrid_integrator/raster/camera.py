@@ -77,12 +77,6 @@ class RasterCamera:
         shift[1, 3] = (1.0 - 2.0 * oy) / self.height
         return shift @ self.world_to_clip
 
-    def sample_positions(self, offset: tuple[float, float] = (0.5, 0.5)) -> tuple[np.ndarray, np.ndarray]:
-        """Film sample positions ``((i + ox) / W, (j + oy) / H)`` of every pixel, row-major
-        (row 0 at the top): what Mitsuba's ``sensor.sample_ray`` takes as ``sample2``."""
-        j, i = np.mgrid[0:self.height, 0:self.width]
-        return ((i.ravel() + offset[0]) / self.width, (j.ravel() + offset[1]) / self.height)
-
 
 def _matrix(transform) -> np.ndarray:
     """A Mitsuba transform (one-lane JIT or scalar) as a 4×4 float64 numpy matrix."""

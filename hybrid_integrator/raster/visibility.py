@@ -84,6 +84,10 @@ class Rasterizer:
 
     def draw(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5)) -> VisibilityBuffer:
         """Rasterize the visibility buffer of ``camera`` with samples at sub-pixel ``offset``."""
+        return self.read(self.render(camera, offset), offset)
+
+    def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5)) -> moderngl.Framebuffer:
+        """The raster pass alone: draw every shape into the camera's targets (left on the GPU)."""
         w, h = camera.width, camera.height
         fbo = self._framebuffer(w, h)
         fbo.use()
@@ -98,6 +102,11 @@ class Rasterizer:
         for index, vao in enumerate(self._vaos):
             self.program["shape_id"].value = index
             vao.render(moderngl.TRIANGLES)
+        return fbo
+
+    def read(self, fbo: moderngl.Framebuffer, offset: tuple[float, float]) -> VisibilityBuffer:
+        """Read the targets of :meth:`render` back to the host as a :class:`VisibilityBuffer`."""
+        w, h = fbo.size
         hit = np.frombuffer(fbo.read(attachment=0, components=4, dtype="u4"), dtype=np.uint32).reshape(h, w, 4)
         dist = np.frombuffer(fbo.read(attachment=1, components=1, dtype="f4"), dtype=np.float32).reshape(h, w)
         shape_index = hit[..., 0].astype(np.int32) - 1
