@@ -13,13 +13,31 @@ from .environment import pin_llvm
 
 pin_llvm()  # before Dr.Jit's LLVM backend starts: see environment.py
 
-from .api import forget, rasterize, rasterizer  # noqa: E402
+from .api import forget, rasterize, rasterizer, render  # noqa: E402
 from .errors import (HybridError, RasterContextError, UnsupportedSceneError,  # noqa: E402
                      UnsupportedVariantError)
 from .raster.gbuffer import AOV_CHANNELS, GBuffer  # noqa: E402
 from .raster.visibility import Rasterizer, VisibilityBuffer  # noqa: E402
 from .scene import load_scene  # noqa: E402
 
-__all__ = ["load_scene", "rasterize", "rasterizer", "forget", "GBuffer", "VisibilityBuffer", "Rasterizer", "AOV_CHANNELS",
+__all__ = ["load_scene", "rasterize", "render", "register", "rasterizer", "forget", "GBuffer", "VisibilityBuffer", "Rasterizer", "AOV_CHANNELS",
            "HybridError", "UnsupportedSceneError", "UnsupportedVariantError", "RasterContextError"]
 __version__ = "0.1.0"
+
+
+def register() -> None:
+    """Register the ``hybrid`` integrator for the active Mitsuba variant. Importing the package
+    does this for the variant set at that time; call it again after ``mi.set_variant``."""
+    from .plugins.hybrid import register as _register
+
+    _register()
+
+
+def _register_for_active_variant() -> None:
+    import mitsuba as mi
+
+    if mi.variant() is not None:
+        register()
+
+
+_register_for_active_variant()

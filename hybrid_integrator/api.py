@@ -1,19 +1,35 @@
-"""The package's Python API for the raster stage."""
+"""The package's Python API: rasterize a G-buffer, render a hybrid frame."""
 from __future__ import annotations
 
 from collections import OrderedDict
+from typing import Callable
 
 import mitsuba as mi
 
 from .environment import require_jit_rgb_variant
+from .errors import HybridError
 from .primary import primary_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
 from .raster.visibility import Rasterizer
 
-#: rasterizers of the scenes drawn most recently (geometry stays on the GPU between frames)
-_RASTERIZERS: "OrderedDict[int, tuple[mi.Scene, Rasterizer]]" = OrderedDict()
+#: per-scene GPU state of the scenes used most recently (geometry and lights stay uploaded)
+_CACHE: "OrderedDict[int, tuple[mi.Scene, dict[str, object]]]" = OrderedDict()
 _CACHE_SIZE = 4
+
+
+def _scene_state(scene: mi.Scene, name: str, factory: Callable[[], object]):
+    key = id(scene)
+    entry = _CACHE.get(key)
+    if entry is None or entry[0] is not scene:
+        entry = (scene, {})
+        _CACHE[key] = entry
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    _CACHE.move_to_end(key)
+    if name not in entry[1]:
+        entry[1][name] = factory()
+    return entry[1][name]
 
 
 def rasterizer(scene: mi.Scene) -> Rasterizer:
@@ -21,20 +37,19 @@ def rasterizer(scene: mi.Scene) -> Rasterizer:
 
     The few most recent scenes keep theirs. Geometry is read when the rasterizer is made: after
     editing vertex positions through ``mi.traverse``, call :func:`forget` for that scene."""
-    key = id(scene)
-    entry = _RASTERIZERS.get(key)
-    if entry is None or entry[0] is not scene:
-        entry = (scene, Rasterizer(scene))
-        _RASTERIZERS[key] = entry
-        while len(_RASTERIZERS) > _CACHE_SIZE:
-            _RASTERIZERS.popitem(last=False)
-    _RASTERIZERS.move_to_end(key)
-    return entry[1]
+    return _scene_state(scene, "rasterizer", lambda: Rasterizer(scene))
+
+
+def renderer(scene: mi.Scene):
+    """The hybrid renderer of ``scene`` (its rasterizer plus its lights), made on first use."""
+    from .pipeline import HybridRenderer
+
+    return _scene_state(scene, "renderer", lambda: HybridRenderer(scene, rasterizer(scene)))
 
 
 def forget(scene: mi.Scene) -> None:
-    """Drop the cached rasterizer of ``scene`` (its GPU geometry is re-read on next use)."""
-    _RASTERIZERS.pop(id(scene), None)
+    """Drop the cached GPU state of ``scene`` (geometry and lights are re-read on next use)."""
+    _CACHE.pop(id(scene), None)
 
 
 def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float, float] = (0.5, 0.5),
@@ -42,13 +57,12 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     """Rasterize the visibility buffer of ``scene`` as seen by ``sensor`` (paper §3.1).
 
     ``offset`` is the sub-pixel sample position in [0,1)² (the pixel centre by default); ``aovs``
-    names any of the paper's Table 2 targets (``position``, ``normal``, ``albedo``,
-    ``specular``, ``optical``, or ``"all"``) to derive from Mitsuba's BSDFs. Arrays are numpy,
-    indexed ``[row, column]`` with row 0 at the top of the image."""
+    names any of the G-buffer targets (``position``, ``normal``, ``albedo``, ``specular``,
+    ``optical``, ``emission``, or ``"all"``) to derive from Mitsuba's BSDFs and emitters. Arrays
+    are numpy, indexed ``[row, column]`` with row 0 at the top of the image."""
     require_jit_rgb_variant()
     aovs = check_aovs(aovs)
     if not all(0.0 <= float(o) < 1.0 for o in offset):
-        from .errors import HybridError
         raise HybridError(f"sub-pixel offset {tuple(offset)} must lie in [0, 1)²")
     sensor = resolve_sensor(scene, sensor)
     camera = RasterCamera.from_sensor(sensor)
@@ -56,3 +70,15 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     vis = raster.draw(camera, offset)
     targets = compute_aovs(scene, primary_hits(scene, sensor, camera, vis), vis.depth.shape, aovs) if aovs else {}
     return GBuffer(**vars(vis), **targets, shape_ids=tuple(s.name for s in raster.shapes))
+
+
+def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor = 0, aovs=(), **properties):
+    """Render one hybrid frame; ``properties`` are the ``hybrid`` integrator's (``primary``,
+    ``effects``, ``candidates``, ``blend``, ``max_depth``, ...). Returns a ``HybridResult``
+    with ``image`` (as ``mi.render`` returns it), ``layers`` and ``stats``."""
+    from .plugins.hybrid import HybridIntegrator
+
+    integrator = mi.load_dict({"type": "hybrid", **properties})
+    if not isinstance(integrator, HybridIntegrator):
+        raise HybridError("the 'hybrid' integrator is registered for another variant: call hi.register()")
+    return integrator.render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs)

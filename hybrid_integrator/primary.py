@@ -40,8 +40,10 @@ def camera_rays(sensor: mi.Sensor, camera: RasterCamera, offset: tuple[float, fl
     """Mitsuba's camera rays through every pixel at sub-pixel ``offset`` (the rays the raster
     stands in for, and the primary rays of the pure ray-tracing baseline)."""
     index = dr.arange(mi.UInt32, camera.width * camera.height)
-    position = mi.Point2f((mi.Float(index % camera.width) + offset[0]) / camera.width,
-                          (mi.Float(index // camera.width) + offset[1]) / camera.height)
+    # opaque: the offset changes every pass, and a literal would recompile the kernel each time
+    ox, oy = (dr.opaque(mi.Float, float(o)) for o in offset)
+    position = mi.Point2f((mi.Float(index % camera.width) + ox) / camera.width,
+                          (mi.Float(index // camera.width) + oy) / camera.height)
     ray, _ = sensor.sample_ray(0.0, 0.5, position, mi.Point2f(0.5, 0.5))
     return ray
 

@@ -45,7 +45,7 @@ def test_analytic_spheres_are_flagged_as_proxies():
 def test_aovs_match_mitsuba_materials():
     scene = load(DEFAULT_SCENE)
     gb = hi.rasterize(scene, aovs=("all",))
-    assert set(gb.aovs) == {"position", "normal", "albedo", "specular", "optical"}
+    assert set(gb.aovs) == {"position", "normal", "albedo", "specular", "optical", "emission"}
     hit = gb.hit
     # position: on the camera ray at the visibility buffer's depth
     sensor = scene.sensors()[0]
@@ -72,6 +72,9 @@ def test_aovs_match_mitsuba_materials():
     walls = gb.optical[pixels_of(gb, "back")]
     assert np.allclose(walls, [0, 1, 1, 1])  # diffuse: not reflective, ior 1, opaque, rough
     assert np.all(gb.position[~hit] == 0)
+    # emission: the area light's radiance where it is seen, nothing on the walls or the background
+    assert np.allclose(gb.emission[pixels_of(gb, "light")], [18.387, 13.9873, 6.75357], rtol=1e-5)
+    assert np.all(gb.emission[pixels_of(gb, "back")] == 0) and np.all(gb.emission[~hit] == 0)
 
 
 def test_textured_albedo_comes_from_the_texture():

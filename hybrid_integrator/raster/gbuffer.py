@@ -21,6 +21,9 @@ Definitions (world space, per pixel; background pixels are 0):
   transmission lobes' weight, importance transport), roughness (the BSDF's GGX/Beckmann
   ``alpha`` or principled ``roughness``; 0 for smooth lobes, 1 for purely diffuse ones): the
   paper's specular exponent as a microfacet roughness.
+- ``emission``  (3): radiance emitted towards the camera (Mitsuba's ``emitter.eval``): area
+  lights seen directly and, on background pixels, the environment (not in Table 2; the lighting
+  stage needs it).
 """
 from __future__ import annotations
 
@@ -41,6 +44,7 @@ AOV_CHANNELS: dict[str, tuple[str, ...]] = {
     "albedo": ("R", "G", "B"),
     "specular": ("R", "G", "B"),
     "optical": ("reflectivity", "ior", "opacity", "roughness"),
+    "emission": ("R", "G", "B"),
 }
 
 
@@ -53,6 +57,7 @@ class GBuffer(VisibilityBuffer):
     albedo: np.ndarray | None = None  # (H, W, 3) float32
     specular: np.ndarray | None = None  # (H, W, 3) float32
     optical: np.ndarray | None = None  # (H, W, 4) float32
+    emission: np.ndarray | None = None  # (H, W, 3) float32
     #: ``shape.id()`` of every shape, in ``shape_index`` order
     shape_ids: tuple[str, ...] = field(default=())
 
@@ -75,32 +80,35 @@ def check_aovs(aovs) -> tuple[str, ...]:
 
 def compute_aovs(scene: mi.Scene, hits: PrimaryHits, shape: tuple[int, int], aovs: tuple[str, ...]) -> dict[str, np.ndarray]:
     """Evaluate the requested targets at the primary hits (one per pixel of an image of ``shape``)."""
-    h, w = shape
     ray, si, valid = hits.ray, hits.si, hits.valid
-    out: dict[str, mi.Color3f | mi.Point3f | mi.Vector3f | list] = {}
     bsdf = si.bsdf(ray)
+
+    def surface(value):  # zero on background pixels
+        return [dr.select(valid, value[k], 0.0) for k in range(len(value))]
+
+    out: dict[str, list] = {}
     if "position" in aovs:
-        out["position"] = si.p
+        out["position"] = surface(si.p)
     if "normal" in aovs:
-        out["normal"] = si.sh_frame.n
+        out["normal"] = surface(si.sh_frame.n)
     if "albedo" in aovs:
-        out["albedo"] = bsdf.eval_diffuse_reflectance(si, valid)
+        out["albedo"] = surface(bsdf.eval_diffuse_reflectance(si, valid))
     if "specular" in aovs or "optical" in aovs:
         specular = _lobe_weight(bsdf, si, valid, mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.GlossyReflection)
         if "specular" in aovs:
-            out["specular"] = specular
+            out["specular"] = surface(specular)
     if "optical" in aovs:
         transmitted = _lobe_weight(bsdf, si, valid, mi.BSDFFlags.Transmission)
         ior, roughness = _per_shape_constants(scene)
-        out["optical"] = [mi.luminance(specular), dr.gather(mi.Float, ior, hits.shape_index, valid),
-                          1.0 - mi.luminance(transmitted), dr.gather(mi.Float, roughness, hits.shape_index, valid)]
-    result = {}
-    for name, value in out.items():
-        channels = list(value) if isinstance(value, list) else [value[k] for k in range(3)]
-        channels = [dr.select(valid, c, 0.0) for c in channels]
-        dr.eval(*channels)
-        result[name] = np.stack([np.array(c, dtype=np.float32) for c in channels], axis=-1).reshape(h, w, -1)
-    return result
+        out["optical"] = surface([mi.luminance(specular), dr.gather(mi.Float, ior, hits.shape_index, valid),
+                                  1.0 - mi.luminance(transmitted), dr.gather(mi.Float, roughness, hits.shape_index, valid)])
+    if "emission" in aovs:  # background pixels keep the environment's radiance
+        emitted = si.emitter(scene).eval(si)
+        out["emission"] = [dr.select(dr.isfinite(emitted[k]), emitted[k], 0.0) for k in range(3)]
+    channels = [c for value in out.values() for c in value]
+    dr.eval(*channels)
+    return {name: np.stack([np.array(c, dtype=np.float32) for c in value], axis=-1).reshape(*shape, -1)
+            for name, value in out.items()}
 
 
 def _lobe_weight(bsdf: mi.BSDFPtr, si: mi.SurfaceInteraction3f, valid: mi.Bool, lobes) -> mi.Color3f:

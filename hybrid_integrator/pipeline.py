@@ -1,0 +1,208 @@
+"""One frame of the hybrid pipeline (paper §6, Fig. 4): raster → lighting → selection → ray
+tracing → composition, repeated once per sample at a jittered sub-pixel offset and splatted into
+the film.
+
+Each sample pass rasterizes the whole frame at one sub-pixel offset (a scrambled Halton sequence,
+one point per pass), so all pixels of a pass share the offset, and ``spp`` passes give
+anti-aliasing. Every pass is splatted with the film's reconstruction filter at
+``pixel + offset``, exactly where Mitsuba would splat a camera ray through that film position, so
+the image converges to what Mitsuba computes. ``primary="raytrace"`` replaces the raster pass by
+Mitsuba's camera rays and changes nothing else: the paper's pure ray-tracing baseline (§8).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+from scipy.stats import qmc
+
+from .compose import compose
+from .errors import HybridError
+from .primary import PrimaryHits, camera_rays, primary_hits, shape_indices
+from .raster.camera import RasterCamera, resolve_sensor
+from .raster.gbuffer import check_aovs, compute_aovs
+from .raster.lighting import INPUTS, DeferredLighting
+from .raster.visibility import Rasterizer
+from .selection import DEFAULT_EFFECTS, parse_candidates, parse_effects, select_pixels
+from .trace import RAY_KINDS, TraceCounts, trace_effects
+
+PRIMARY_SOURCES = ("raster", "raytrace")
+STAGES = ("raster", "lighting", "trace", "compose", "total")
+
+
+@dataclass(frozen=True)
+class HybridSettings:
+    """The ``hybrid`` integrator's properties (see ``plugins/hybrid.py`` for their meaning)."""
+
+    max_depth: int = -1
+    rr_depth: int = 5
+    hide_emitters: bool = False
+    primary: str = "raster"
+    effects: tuple[str, ...] = DEFAULT_EFFECTS
+    candidates: tuple[str, ...] | None = None  # None: every shape
+    blend: float = 1.0
+    budget_ms: float = 0.0
+
+    def __post_init__(self):
+        if self.primary not in PRIMARY_SOURCES:
+            raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
+        object.__setattr__(self, "effects", parse_effects(self.effects))
+        if isinstance(self.candidates, str):
+            object.__setattr__(self, "candidates", tuple(c.strip() for c in self.candidates.split(",") if c.strip()))
+        if not (math.isfinite(self.blend) and 0.0 <= self.blend <= 1.0):
+            raise HybridError(f"blend={self.blend} must lie in [0, 1]")
+        if not (math.isfinite(self.budget_ms) and self.budget_ms >= 0.0):
+            raise HybridError(f"budget_ms={self.budget_ms} is impossible: give a time in ms >= 0 (0 = unlimited)")
+        if self.max_depth < -1:
+            raise HybridError(f"max_depth={self.max_depth} must be -1 (unlimited) or >= 0")
+        if self.rr_depth < 1:
+            raise HybridError(f"rr_depth={self.rr_depth} must be >= 1")
+
+
+@dataclass
+class FrameStats:
+    """What one frame cost and did. Times are milliseconds with the backend synchronized,
+    summed over the frame's sample passes."""
+
+    width: int
+    height: int
+    spp: int
+    primary: str
+    times_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(STAGES, 0.0))
+    rays: dict[str, int] = field(default_factory=lambda: dict.fromkeys(("camera",) + RAY_KINDS, 0))
+    pixels_traced: int = 0  # traced pixel-samples, summed over passes
+    proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
+    lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
+
+    @property
+    def secondary_rays(self) -> int:
+        return sum(self.rays[k] for k in RAY_KINDS)
+
+    def as_dict(self) -> dict:
+        return {**asdict(self), "secondary_rays": self.secondary_rays}
+
+
+@dataclass
+class HybridResult:
+    """A rendered frame: ``image`` as ``mi.render`` returns it, the layers (H×W numpy, filtered
+    like the image) and the frame's statistics."""
+
+    image: mi.TensorXf
+    layers: dict[str, np.ndarray]
+    stats: FrameStats
+
+
+def subpixel_offsets(spp: int, seed: int) -> np.ndarray:
+    """``spp`` sub-pixel positions in [0,1)²: a scrambled Halton sequence (low discrepancy)."""
+    return qmc.Halton(d=2, scramble=True, seed=seed).random(spp)
+
+
+class _Clock:
+    """Accumulates synchronized stage times into ``FrameStats.times_ms``."""
+
+    def __init__(self, times: dict[str, float]):
+        self.times = times
+        self.last = time.perf_counter()
+
+    def lap(self, stage: str, *values) -> None:
+        if values:
+            dr.eval(*values)
+        dr.sync_thread()
+        now = time.perf_counter()
+        self.times[stage] += (now - self.last) * 1e3
+        self.last = now
+
+
+class HybridRenderer:
+    """The GPU-side state of one scene: its rasterizer (geometry uploaded once) and lights."""
+
+    def __init__(self, scene: mi.Scene, rasterizer: Rasterizer):
+        self.scene = scene
+        self.raster = rasterizer
+        self.lighting = DeferredLighting(scene)
+
+    def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
+               aovs=()) -> HybridResult:
+        scene = self.scene
+        sensor = resolve_sensor(scene, sensor)
+        camera = RasterCamera.from_sensor(sensor)
+        aovs = check_aovs(aovs)
+        spp = int(spp) or sensor.sampler().sample_count()
+        candidates = parse_candidates(settings.candidates, scene)
+        has_emitters = len(scene.emitters()) > 0
+        w, h = camera.width, camera.height
+        stats = FrameStats(width=w, height=h, spp=spp, primary=settings.primary,
+                           lights_left_out=self.lighting.lights.approximated)
+
+        film = sensor.film()
+        film.prepare([])
+        image_block = film.create_block()
+        has_alpha = mi.has_flag(film.flags(), mi.FilmFlags.Alpha)
+        layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, film.rfilter())
+        index = dr.arange(mi.UInt32, w * h)
+        pixel = mi.Point2f(mi.Float(index % w), mi.Float(index // w))
+        box = film.rfilter().is_box_filter()
+        counts = TraceCounts()
+        first_targets: dict[str, np.ndarray] = {}
+        start = time.perf_counter()
+        clock = _Clock(stats.times_ms)
+
+        for sample, offset in enumerate(subpixel_offsets(spp, seed)):
+            offset = (float(offset[0]), float(offset[1]))
+            # 1. primary visibility: the raster (paper §3.1) or camera rays (the baseline, §8)
+            if settings.primary == "raster":
+                hits = primary_hits(scene, sensor, camera, self.raster.draw(camera, offset))
+                stats.proxy_refinements += hits.proxy_refined
+            else:
+                ray = camera_rays(sensor, camera, offset)
+                si = scene.ray_intersect(ray)
+                valid = si.is_valid()
+                hits = PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, si.shape, valid), valid=valid,
+                                   proxy_refined=0)
+                stats.rays["camera"] += w * h
+            clock.lap("raster", hits.si.p, hits.valid)
+
+            # 2. deferred lighting: the raster layer (§3.1, Fig. 1g)
+            targets = compute_aovs(scene, hits, (h, w), tuple(dict.fromkeys(tuple(INPUTS) + aovs)))
+            if settings.hide_emitters:
+                targets["emission"][:] = 0.0
+            raster_rgb = self.lighting.shade(targets, np.array(hits.valid).reshape(h, w), camera.eye).reshape(-1, 3)
+            raster = mi.Color3f(*(mi.Float(raster_rgb[:, k]) for k in range(3)))
+            if sample == 0:
+                first_targets = {k: targets[k] for k in aovs}
+            clock.lap("lighting", raster)
+
+            # 3.-4. selection and ray tracing of the selected pixels' effects (§3.2, §4.1)
+            selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid, candidates, settings.effects,
+                                      has_emitters)
+            stats.pixels_traced += selection.count
+            rt, pass_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
+                                            settings.max_depth, settings.rr_depth, settings.hide_emitters,
+                                            seed=(int(seed) << 32) + sample)
+            counts.add(pass_counts)
+            clock.lap("trace", rt)
+
+            # 5. composition (§5), splatted like a camera ray through the same film position
+            color = compose(raster, rt, selection.traced, settings.blend)
+            alpha = dr.select(hits.valid | (scene.environment() is not None and not settings.hide_emitters), 1.0, 0.0)
+            pos = pixel if box else pixel + mi.Vector2f(*(dr.opaque(mi.Float, o) for o in offset))
+            image_block.put(pos, [color.x, color.y, color.z] + ([alpha] if has_alpha else []) + [mi.Float(1.0)])
+            traced = dr.select(selection.traced, 1.0, 0.0)
+            layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, traced, mi.Float(1.0)])
+            clock.lap("compose")
+
+        film.put_block(image_block)
+        image = film.develop()
+        dr.eval(image)
+        dr.sync_thread()
+        stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
+        stats.rays.update(counts.rays)
+        sums = np.array(layer_block.tensor())
+        weight = np.maximum(sums[..., 7:8], 1e-12)
+        layers = {"raster": sums[..., 0:3] / weight, "rt": sums[..., 3:6] / weight, "traced": sums[..., 6] / weight[..., 0],
+                  **first_targets}
+        return HybridResult(image=image, layers=layers, stats=stats)

@@ -1,0 +1,95 @@
+"""Stage 3, selection: which pixels the ray tracer touches (paper §3.2, §4.1).
+
+Sabino et al. ray trace only *candidate* objects, chosen in pre-production (§4.1), and only the
+secondary rays their materials call for: the G-buffer's optical properties say whether a pixel
+needs reflection or refraction rays (§3.2, Fig. 1f). Here the material test reads the lobes of the
+pixel's own Mitsuba BSDF:
+
+============  ===============================================  ============================
+effect        traced where the BSDF has                         secondary rays
+============  ===============================================  ============================
+shadow        a non-delta lobe (something light can reach)      shadow rays to sampled emitters
+reflection    delta or glossy reflection                        BSDF-sampled reflection rays
+refraction    delta or glossy transmission, or a null lobe      BSDF-sampled refraction rays
+indirect      diffuse reflection or transmission                BSDF-sampled diffuse rays
+============  ===============================================  ============================
+
+A pixel is traced when its shape is a candidate and it needs at least one enabled effect; every
+other pixel shows the raster layer (§5). The relevance/cost heuristic of §4 narrows the candidates
+per frame (a later stage).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from .errors import HybridError
+
+EFFECTS = ("shadow", "reflection", "refraction", "indirect")
+DEFAULT_EFFECTS = ("shadow", "reflection", "refraction")
+
+
+def count(mask: mi.Bool) -> int:
+    """Number of set lanes, on the host."""
+    return int(dr.ravel(dr.count(mask))[0])
+
+
+def lobes(effects: tuple[str, ...]) -> int:
+    """The BSDF lobes whose sampled directions are followed for ``effects`` (BSDFFlags bits)."""
+    F = mi.BSDFFlags
+    table = {"reflection": F.DeltaReflection | F.GlossyReflection,
+             "refraction": F.DeltaTransmission | F.GlossyTransmission | F.Null,
+             "indirect": F.DiffuseReflection | F.DiffuseTransmission}
+    flags = 0
+    for effect in effects:
+        flags |= int(table.get(effect, 0))
+    return flags
+
+
+def parse_effects(value) -> tuple[str, ...]:
+    """``"shadow, reflection"`` or a sequence of names → a tuple in canonical order."""
+    names = [v.strip() for v in (value.split(",") if isinstance(value, str) else value) if v.strip()]
+    unknown = [n for n in names if n not in EFFECTS]
+    if unknown:
+        raise HybridError(f"unknown effect(s) {unknown}: choose from {list(EFFECTS)}")
+    return tuple(e for e in EFFECTS if e in names)
+
+
+def parse_candidates(value, scene: mi.Scene) -> np.ndarray:
+    """Candidate flag per ``scene.shapes()`` entry. ``None`` means every shape; otherwise a comma
+    list (or sequence) of shape ids, each of which must exist."""
+    shapes = scene.shapes()
+    if value is None:
+        return np.ones(len(shapes), dtype=bool)
+    names = [v.strip() for v in (value.split(",") if isinstance(value, str) else value) if v.strip()]
+    ids = [s.id() for s in shapes]
+    unknown = [n for n in names if n not in ids]
+    if unknown:
+        raise HybridError(f"unknown candidate shape id(s) {unknown}: the scene's shapes are {ids}")
+    return np.array([i in names for i in ids], dtype=bool)
+
+
+@dataclass(frozen=True)
+class Selection:
+    """Per-pixel outcome of the selection stage for one pass."""
+
+    traced: mi.Bool  # the pixel's primary hit is ray traced
+    count: int  # number of traced pixels
+
+
+def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, shape_index: mi.UInt32, valid: mi.Bool,
+                  candidates: np.ndarray, effects: tuple[str, ...], has_emitters: bool) -> Selection:
+    """Traced pixels: candidate shapes whose BSDF needs one of the enabled effects."""
+    flags = si.bsdf(ray).flags()
+    need = mi.Bool(False)
+    if "shadow" in effects and has_emitters:
+        need |= mi.has_flag(flags, mi.BSDFFlags.Smooth)
+    continued = lobes(effects)
+    if continued:
+        need |= (flags & continued) != 0
+    is_candidate = dr.gather(mi.Bool, mi.Bool(candidates), shape_index, valid) if candidates.size else mi.Bool(False)
+    traced = valid & is_candidate & need
+    return Selection(traced=traced, count=count(traced))
