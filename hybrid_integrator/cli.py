@@ -1,9 +1,12 @@
 """The ``hybrid`` command line.
 
-    hybrid gbuffer SCENE.xml -o gbuffer.exr [--aovs all] [-D resx=1280 -D resy=720]
+    hybrid gbuffer SCENE.xml -o gbuffer.exr [--aovs all]
+    hybrid render  SCENE.xml -o out.exr [--spp N] [--primary raytrace] [--effects ...]
+    hybrid compare SCENE.xml [-o out/compare] [--spp N] [--gt-spp N]
 
-Errors the package raises on purpose are printed as one line, ``hybrid: error: ...``, with exit
-status 2; anything else is a bug and keeps its traceback.
+Every command takes ``-D name=value`` (the scene's ``$name`` parameters, as Mitsuba's own command
+line) and ``--variant``. Errors the package raises on purpose are printed as one line,
+``hybrid: error: ...``, with exit status 2; anything else is a bug and keeps its traceback.
 """
 from __future__ import annotations
 
@@ -23,17 +26,47 @@ def _define(text: str) -> tuple[str, str]:
     return name, value
 
 
+def _integrator_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("hybrid integrator properties (default: the integrator's own)")
+    g.add_argument("--primary", choices=("raster", "raytrace"), help="where primary hits come from")
+    g.add_argument("--effects", help="comma list of shadow, reflection, refraction, indirect")
+    g.add_argument("--candidates", help="comma list of shape ids to ray trace ('' for none)")
+    g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")
+    g.add_argument("--max-depth", dest="max_depth", type=int, help="as Mitsuba's path (-1: unlimited)")
+    g.add_argument("--budget-ms", dest="budget_ms", type=float, help="frame-time budget for ray tracing (0: unlimited)")
+    g.add_argument("--hide-emitters", dest="hide_emitters", action="store_true", default=None)
+
+
+def _properties(args) -> dict:
+    names = ("primary", "effects", "candidates", "blend", "max_depth", "budget_ms", "hide_emitters")
+    return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="hybrid", description="Hybrid rasterized + ray-traced rendering on Mitsuba 3.")
     sub = parser.add_subparsers(dest="command", required=True)
 
     gbuffer = sub.add_parser("gbuffer", help="rasterize a scene's visibility buffer / G-buffer into a multi-layer EXR")
-    gbuffer.add_argument("scene", type=Path, help="Mitsuba scene XML")
     gbuffer.add_argument("-o", "--output", type=Path, default=Path("gbuffer.exr"), help="EXR to write (a PNG contact sheet is written beside it)")
-    gbuffer.add_argument("--aovs", nargs="*", default=["all"], help="G-buffer targets: position normal albedo specular optical, or all (default)")
+    gbuffer.add_argument("--aovs", nargs="*", default=["all"], help="G-buffer targets: position normal albedo specular optical emission, or all (default)")
     gbuffer.add_argument("--offset", nargs=2, type=float, default=(0.5, 0.5), metavar=("X", "Y"), help="sub-pixel sample position in [0,1)")
-    gbuffer.add_argument("--sensor", type=int, default=0, help="index of the scene's sensor")
-    for p in (gbuffer,):
+
+    render = sub.add_parser("render", help="render a hybrid frame: EXR (image + layers), PNG preview, stats JSON")
+    render.add_argument("-o", "--output", type=Path, default=Path("render.exr"))
+    render.add_argument("--spp", type=int, default=0, help="samples per pixel (default: the scene's sampler)")
+    render.add_argument("--seed", type=int, default=0)
+    _integrator_options(render)
+
+    compare = sub.add_parser("compare", help="hybrid vs pure ray tracing vs ground truth: time and error table")
+    compare.add_argument("-o", "--output", type=Path, default=Path("out/compare"), help="folder for images and report")
+    compare.add_argument("--spp", type=int, default=16)
+    compare.add_argument("--gt-spp", dest="gt_spp", type=int, default=1024, help="samples per pixel of the ground truth")
+    compare.add_argument("--seed", type=int, default=0)
+    _integrator_options(compare)
+
+    for p in (gbuffer, render, compare):
+        p.add_argument("scene", type=Path, help="Mitsuba scene XML")
+        p.add_argument("--sensor", type=int, default=0, help="index of the scene's sensor")
         p.add_argument("-D", dest="defines", action="append", type=_define, default=[], metavar="NAME=VALUE",
                        help="scene parameter ($NAME in the XML), as in Mitsuba's own command line")
         p.add_argument("--variant", default=DEFAULT_VARIANT, help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
@@ -43,9 +76,8 @@ def _parser() -> argparse.ArgumentParser:
 def _gbuffer(args) -> dict:
     import hybrid_integrator as hi
     from hybrid_integrator.io import contact_sheet, write_gbuffer
-    from hybrid_integrator.scene import load_scene
 
-    scene = load_scene(args.scene, **dict(args.defines))
+    scene = hi.load_scene(args.scene, **dict(args.defines))
     hi.rasterize(scene, sensor=args.sensor, offset=tuple(args.offset))  # uploads geometry, compiles shaders
     start = time.perf_counter()
     vis = hi.rasterize(scene, sensor=args.sensor, offset=tuple(args.offset))
@@ -56,6 +88,38 @@ def _gbuffer(args) -> dict:
     h, w = vis.depth.shape
     return {"exr": str(exr), "contact_sheet": str(png), "width": w, "height": h, "raster_ms": round(raster_ms, 3),
             "hit_pixels": int(vis.hit.sum()), "proxy_pixels": int(vis.proxy.sum()), "shapes": len(gb.shape_ids)}
+
+
+def _render(args) -> dict:
+    import mitsuba as mi
+    import numpy as np
+
+    import hybrid_integrator as hi
+    from hybrid_integrator.io import write_exr
+
+    scene = hi.load_scene(args.scene, **dict(args.defines))
+    result = hi.render(scene, spp=args.spp, seed=args.seed, sensor=args.sensor, **_properties(args))
+    image = np.array(result.image, dtype=np.float32)
+    channels = {c: image[..., k] for k, c in enumerate("RGBA"[:image.shape[2]])}
+    for layer in ("raster", "rt"):
+        channels.update({f"{layer}.{c}": result.layers[layer][..., k] for k, c in enumerate("RGB")})
+    channels["traced.Y"] = result.layers["traced"].astype(np.float32)
+    exr = write_exr(args.output, channels)
+    png = args.output.with_suffix(".png")
+    mi.util.write_bitmap(str(png), image[..., :3], write_async=False)
+    stats = result.stats.as_dict()
+    args.output.with_suffix(".json").write_text(json.dumps(stats, indent=2))
+    return {"exr": str(exr), "png": str(png), "stats": stats}
+
+
+def _compare(args) -> dict:
+    from hybrid_integrator.compare import compare, table
+
+    report = compare(args.scene, dict(args.defines), spp=args.spp, gt_spp=args.gt_spp, seed=args.seed,
+                     out_dir=args.output, **_properties(args))
+    print(table(report), file=sys.stderr)
+    return {"report": str(args.output / "compare.json"), "table": str(args.output / "compare.md"),
+            "errors": str(args.output / "errors.png")}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -71,7 +135,10 @@ def main(argv: list[str] | None = None) -> int:
             mi.set_variant(args.variant)
         except (AttributeError, ImportError, ValueError) as exc:
             raise HybridError(f"Mitsuba variant '{args.variant}' is not available: {exc}") from exc
-        report = {"gbuffer": _gbuffer}[args.command](args)
+        import hybrid_integrator as hi
+
+        hi.register()
+        report = {"gbuffer": _gbuffer, "render": _render, "compare": _compare}[args.command](args)
     except HybridError as exc:
         print(f"hybrid: error: {exc}", file=sys.stderr)
         return 2

@@ -76,6 +76,7 @@ class FrameStats:
     rays: dict[str, int] = field(default_factory=lambda: dict.fromkeys(("camera",) + RAY_KINDS, 0))
     pixels_traced: int = 0  # traced pixel-samples, summed over passes
     proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
+    edge_refinements: int = 0  # silhouette pixel-samples whose raster hit was re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
 
     @property
@@ -157,12 +158,12 @@ class HybridRenderer:
             if settings.primary == "raster":
                 hits = primary_hits(scene, sensor, camera, self.raster.draw(camera, offset))
                 stats.proxy_refinements += hits.proxy_refined
+                stats.edge_refinements += hits.edge_refined
             else:
                 ray = camera_rays(sensor, camera, offset)
                 si = scene.ray_intersect(ray)
                 valid = si.is_valid()
-                hits = PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, si.shape, valid), valid=valid,
-                                   proxy_refined=0)
+                hits = PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, si.shape, valid), valid=valid)
                 stats.rays["camera"] += w * h
             clock.lap("raster", hits.si.p, hits.valid)
 

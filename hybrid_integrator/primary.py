@@ -7,8 +7,17 @@ names the shape, the triangle and the barycentrics of the first hit; a Mitsuba
 ray tracer would have produced (position from the barycentrics, shading frame, UVs, ``wi``), so the
 secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
 
-Pixels of tessellated analytic shapes (``proxy``) are refined by tracing their camera ray: the
-proxy only says that the exact shape may be there.
+Two kinds of pixel are *refined*, i.e. their primary hit is re-found by tracing their camera ray
+(``ray_intersect_preliminary``) instead of trusting the raster, and both are counted in the frame
+statistics:
+
+- pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
+  be there;
+- *silhouette* pixels, whose 4-neighbourhood shows another shape or the background. The
+  rasterizer snaps vertices to a fixed-point sub-pixel grid (1/256 pixel on Mesa), so a sample
+  lying that close to an object's outline can land on the wrong side of it; on a straight outline
+  aligned with the pixel grid this flips a whole column at once. Within one shape the same
+  mistake only swaps two triangles that share the edge, which changes nothing visible.
 """
 from __future__ import annotations
 
@@ -33,7 +42,9 @@ class PrimaryHits:
     #: the pixel's first hit is a surface (background pixels and proxy misses are False)
     valid: mi.Bool
     #: pixels whose hit came from a ray because the raster saw an analytic shape's proxy
-    proxy_refined: int
+    proxy_refined: int = 0
+    #: silhouette pixels whose hit came from a ray (see the module docstring)
+    edge_refined: int = 0
 
 
 def camera_rays(sensor: mi.Sensor, camera: RasterCamera, offset: tuple[float, float]) -> mi.Ray3f:
@@ -60,12 +71,25 @@ def shape_indices(scene: mi.Scene, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UIn
     return dr.gather(mi.UInt32, mi.UInt32(table), dr.reinterpret_array(mi.UInt32, shape), valid)
 
 
+def silhouettes(shape_index: np.ndarray) -> np.ndarray:
+    """Pixels with a 4-neighbour that shows another shape (or the background)."""
+    edge = np.zeros(shape_index.shape, dtype=bool)
+    horizontal = shape_index[:, 1:] != shape_index[:, :-1]
+    vertical = shape_index[1:, :] != shape_index[:-1, :]
+    edge[:, 1:] |= horizontal
+    edge[:, :-1] |= horizontal
+    edge[1:, :] |= vertical
+    edge[:-1, :] |= vertical
+    return edge
+
+
 def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, vis: VisibilityBuffer) -> PrimaryHits:
     """Rebuild Mitsuba's surface interactions from the visibility buffer ``vis``."""
     ray = camera_rays(sensor, camera, vis.offset)
     shape_index = mi.UInt32(np.maximum(vis.shape_index, 0).ravel().astype(np.uint32))
-    raster_hit = mi.Bool(vis.hit.ravel() & ~vis.proxy.ravel())
-    proxy = mi.Bool(vis.proxy.ravel())
+    edge = silhouettes(vis.shape_index) & ~vis.proxy
+    refine = (vis.proxy | edge).ravel()
+    raster_hit = mi.Bool(vis.hit.ravel() & ~refine)
     # Mitsuba's camera rays start on the near plane; the raster measures from the eye
     near_t = dr.norm(ray.o - mi.Point3f(*(float(c) for c in camera.eye)))
 
@@ -77,10 +101,10 @@ def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, vis: 
     pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), shape_index, raster_hit)
     pi.valid = raster_hit
 
-    n_proxy = int(vis.proxy.sum())
-    if n_proxy:
-        pi = dr.select(proxy, scene.ray_intersect_preliminary(ray, False, proxy), pi)
+    if refine.any():
+        retrace = mi.Bool(refine)
+        pi = dr.select(retrace, scene.ray_intersect_preliminary(ray, False, retrace), pi)
     valid = pi.is_valid()
     si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
     return PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, pi.shape, valid), valid=valid,
-                       proxy_refined=n_proxy)
+                       proxy_refined=int(vis.proxy.sum()), edge_refined=int(edge.sum()))

@@ -68,7 +68,10 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
         return radiance, TraceCounts()
     ray = dr.gather(mi.Ray3f, ray, pixel)
     si = dr.gather(mi.SurfaceInteraction3f, si, pixel)
-    rng = mi.PCG32(dr.width(pixel), dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))  # opaque: no recompiling per pass
+    # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane
+    # offset; the pass seed is opaque so that the kernel is not recompiled every pass
+    rng = mi.PCG32(dr.width(pixel))
+    rng.seed(dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))
     L, rays = _paths(scene, ray, si, rng, effects, max_depth, rr_depth, hide_emitters)
     dr.scatter(radiance, L, pixel)
     totals = [dr.sum(r) for r in rays]

@@ -1,0 +1,176 @@
+"""Reference comparison: the hybrid against the pure ray-tracing baseline and the ground truth.
+
+For one scene this renders, on the same film and at the same ``spp``:
+
+- ``raster``: the raster layer alone (``candidates=""``: nothing traced), the paper's DR image;
+- ``hybrid``: raster primary hits + ray-traced effects (the integrator's settings);
+- ``rt-baseline``: the same with ``primary="raytrace"`` (the paper's pure GPU ray tracer, §8);
+- ``path``: Mitsuba's own ``path`` integrator at the same ``spp`` and ``max_depth``;
+
+and measures each against the **ground truth**, Mitsuba's ``path`` at high ``spp``, cached on disk
+under a key made of the scene file's content (and every file it references), the scene
+parameters, ``spp``, ``max_depth``, the variant and Mitsuba's version. Times are per frame (all
+``spp`` passes), after one warm-up frame that compiles the kernels, with the backend synchronized.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from .metrics import image_error
+from .scene import load_scene
+
+
+@dataclass(frozen=True)
+class MethodResult:
+    method: str
+    time_ms: float
+    flip: float
+    rel_mse: float
+    delta_e2000: float
+    secondary_rays: int | None = None
+    pixels_traced: int | None = None
+
+
+def cache_dir() -> Path:
+    """Where ground-truth images are kept (``$HYBRID_CACHE``, else ``~/.cache/hybrid_integrator``)."""
+    root = os.environ.get("HYBRID_CACHE") or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "hybrid_integrator"
+    return Path(root) / "ground_truth"
+
+
+def scene_fingerprint(path: Path, params: dict) -> str:
+    """SHA-256 of the scene file, the files it names (meshes, textures, includes) and ``params``."""
+    path = Path(path)
+    digest = hashlib.sha256(path.read_bytes())
+    for name in sorted(set(re.findall(r'(?:value|filename)="([^"$]+\.[A-Za-z0-9]+)"', path.read_text(errors="replace")))):
+        ref = path.parent / name
+        if ref.is_file():
+            digest.update(name.encode())
+            digest.update(ref.read_bytes())
+            if ref.suffix == ".xml":
+                digest.update(scene_fingerprint(ref, {}).encode())
+    digest.update(json.dumps(params, sort_keys=True, default=str).encode())
+    return digest.hexdigest()
+
+
+def _timed(fn):
+    start = time.perf_counter()
+    value = fn()
+    dr.eval(value)
+    dr.sync_thread()
+    return value, (time.perf_counter() - start) * 1e3
+
+
+def render_path(scene: mi.Scene, spp: int, max_depth: int, seed: int = 0) -> mi.TensorXf:
+    integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
+    return mi.render(scene, integrator=integrator, spp=spp, seed=seed)
+
+
+def ground_truth(scene_path: Path, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
+    """Mitsuba ``path`` at ``spp``, from the cache when the same scene and settings were rendered
+    before. Returns (image, file, whether it came from the cache)."""
+    key = scene_fingerprint(scene_path, {**params, "spp": spp, "max_depth": max_depth, "variant": mi.variant(),
+                                         "mitsuba": mi.__version__})
+    file = cache_dir() / f"{Path(scene_path).stem}-{key[:16]}.exr"
+    if file.is_file():
+        return np.array(mi.Bitmap(str(file)), dtype=np.float32)[..., :3], file, True
+    image = np.array(render_path(scene, spp, max_depth, seed=0x5EED), dtype=np.float32)[..., :3]
+    file.parent.mkdir(parents=True, exist_ok=True)
+    tmp = file.with_suffix(f".{os.getpid()}.exr")
+    mi.util.write_bitmap(str(tmp), image, write_async=False)
+    tmp.replace(file)
+    return image, file, False
+
+
+def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, seed: int = 0,
+            out_dir: Path | None = None, **properties) -> dict:
+    """Render every method, measure it against the ground truth; write images and a report to
+    ``out_dir`` when given. ``properties`` are the hybrid integrator's."""
+    import hybrid_integrator as hi
+
+    scene_path = Path(scene_path)
+    scene = load_scene(scene_path, **params)
+    max_depth = int(properties.get("max_depth", -1))
+    reference, gt_file, cached = ground_truth(scene_path, scene, params, gt_spp, max_depth)
+
+    runs = {
+        "raster": lambda: hi.render(scene, spp=spp, seed=seed, **{**properties, "candidates": ""}),
+        "hybrid": lambda: hi.render(scene, spp=spp, seed=seed, **properties),
+        "rt-baseline": lambda: hi.render(scene, spp=spp, seed=seed, **{**properties, "primary": "raytrace"}),
+    }
+    rows, images, maps = [], {}, {}
+    for name, run in runs.items():
+        run()  # warm-up: kernel compilation, geometry upload
+        result = run()
+        image = np.array(result.image, dtype=np.float32)[..., :3]
+        error, error_maps = image_error(image, reference)
+        rows.append(MethodResult(name, result.stats.times_ms["total"], error.flip, error.rel_mse, error.delta_e2000,
+                                 result.stats.secondary_rays, result.stats.pixels_traced))
+        images[name], maps[name] = image, error_maps
+    _timed(lambda: render_path(scene, spp, max_depth, seed))
+    path_image, path_ms = _timed(lambda: render_path(scene, spp, max_depth, seed))
+    path_image = np.array(path_image, dtype=np.float32)[..., :3]
+    error, maps["path"] = image_error(path_image, reference)
+    rows.append(MethodResult("path", path_ms, error.flip, error.rel_mse, error.delta_e2000))
+    images["path"] = path_image
+
+    film = scene.sensors()[0].film().size()
+    report = {"scene": str(scene_path), "params": params, "width": int(film[0]), "height": int(film[1]), "spp": spp,
+              "ground_truth": {"integrator": "path", "spp": gt_spp, "max_depth": max_depth, "file": str(gt_file),
+                               "cached": cached},
+              "properties": {k: v for k, v in properties.items()}, "variant": mi.variant(),
+              "methods": [asdict(r) for r in rows]}
+    if out_dir is not None:
+        _write(Path(out_dir), report, images, maps, reference)
+    return report
+
+
+def table(report: dict) -> str:
+    """The comparison as a markdown table."""
+    lines = [f"{report['scene']} at {report['width']}×{report['height']}, {report['spp']} spp, {report['variant']}; "
+             f"ground truth: path, {report['ground_truth']['spp']} spp, max_depth {report['ground_truth']['max_depth']}",
+             "", "| method | time per frame (ms) | FLIP | rel. MSE | ΔE2000 | secondary rays | pixels traced |",
+             "|---|---|---|---|---|---|---|"]
+    def count(value):
+        return "" if value is None else f"{value:,}"
+
+    for m in report["methods"]:
+        lines.append(f"| {m['method']} | {m['time_ms']:.1f} | {m['flip']:.4f} | {m['rel_mse']:.4f} | "
+                     f"{m['delta_e2000']:.3f} | {count(m['secondary_rays'])} | {count(m['pixels_traced'])} |")
+    return "\n".join(lines)
+
+
+def _write(out: Path, report: dict, images: dict, maps: dict, reference: np.ndarray) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "compare.json").write_text(json.dumps(report, indent=2))
+    (out / "compare.md").write_text(table(report) + "\n")
+    mi.util.write_bitmap(str(out / "ground_truth.png"), reference, write_async=False)
+    for name, image in images.items():
+        mi.util.write_bitmap(str(out / f"{name}.exr"), image, write_async=False)
+        mi.util.write_bitmap(str(out / f"{name}.png"), image, write_async=False)
+    fig, axes = plt.subplots(2, len(images), figsize=(4 * len(images), 6.5), squeeze=False)
+    for col, name in enumerate(images):
+        axes[0, col].imshow(np.clip(images[name], 0, 1) ** (1 / 2.2))
+        axes[0, col].set_title(name)
+        axes[1, col].imshow(maps[name]["flip"], cmap="magma", vmin=0, vmax=1)
+        m = next(r for r in report["methods"] if r["method"] == name)
+        axes[1, col].set_title(f"FLIP {m['flip']:.4f}")
+        for ax in axes[:, col]:
+            ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(out / "errors.png", dpi=90)
+    plt.close(fig)
