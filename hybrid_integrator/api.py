@@ -76,9 +76,10 @@ def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor
     """Render one hybrid frame; ``properties`` are the ``hybrid`` integrator's (``primary``,
     ``effects``, ``candidates``, ``blend``, ``max_depth``, ...). Returns a ``HybridResult``
     with ``image`` (as ``mi.render`` returns it), ``layers`` and ``stats``."""
-    from .plugins.hybrid import HybridIntegrator
+    from .plugins.hybrid import HybridIntegrator, register
 
+    require_jit_rgb_variant()
+    register()  # for the active variant, whichever it is now
     integrator = mi.load_dict({"type": "hybrid", **properties})
-    if not isinstance(integrator, HybridIntegrator):
-        raise HybridError("the 'hybrid' integrator is registered for another variant: call hi.register()")
+    assert isinstance(integrator, HybridIntegrator)
     return integrator.render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs)

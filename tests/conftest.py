@@ -3,13 +3,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import hybrid_integrator  # noqa: F401  (pins LLVM 19 before Dr.Jit's LLVM backend starts)
+import hybrid_integrator  # pins LLVM 19 before Dr.Jit's LLVM backend starts
 import mitsuba as mi
 import pytest
 
 from hybrid_integrator.raster.camera import sensor_like
 
 mi.set_variant("llvm_ad_rgb")
+hybrid_integrator.register()
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED_SCENES = ROOT.parent / "shared" / "scenes"
@@ -41,3 +42,4 @@ def llvm_variant():
     mi.set_variant("llvm_ad_rgb")
     yield
     mi.set_variant("llvm_ad_rgb")
+    hybrid_integrator.register()

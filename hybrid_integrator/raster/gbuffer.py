@@ -8,6 +8,9 @@ target is then computed from the pixel's exact Mitsuba surface interaction and *
 BSDF*, so textures, two-sided wrappers and every material plugin are honoured without a second
 material system. Only the targets asked for are computed ("model no more than a scene needs").
 
+The targets are evaluated at the pixel's *refined* primary hit (:mod:`hybrid_integrator.primary`:
+analytic-shape proxies and silhouette pixels are re-traced), the hit the ray tracer starts from.
+
 Definitions (world space, per pixel; background pixels are 0):
 
 - ``position``  (3): the hit point ``si.p``.

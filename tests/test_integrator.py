@@ -1,0 +1,216 @@
+"""The hybrid integrator (issue 3 acceptance): raster primaries against camera-ray primaries,
+convergence to Mitsuba's path, composition, the XML/mi.render route and ray counts."""
+from __future__ import annotations
+
+import json
+
+import mitsuba as mi
+import numpy as np
+import pytest
+
+import hybrid_integrator as hi
+from hybrid_integrator.cli import main as cli
+from hybrid_integrator.io import read_exr
+from conftest import DEFAULT_SCENE, SHARED_SCENES, load
+
+SMALL = dict(resx=320, resy=180)
+PRIMARY_SCENES = {
+    "default": (DEFAULT_SCENE, SMALL),
+    "showcase": (SHARED_SCENES / "cbox/showcase_coloured_glass.xml", SMALL),
+    "armadillo": (SHARED_SCENES / "models/armadillo.xml", SMALL),
+    "sponza": (SHARED_SCENES / "sponza-dabrovic/scene.xml", SMALL),
+    "analytic spheres": (SHARED_SCENES / "cbox/cbox_spheres_analytic.xml", dict(res=256, integrator="path")),
+}
+
+
+@pytest.mark.parametrize("name", list(PRIMARY_SCENES))
+def test_raster_primaries_match_camera_rays(name):
+    """Same seed and spp: the hybrid and the pure ray-tracing baseline differ only where the raster's
+    first hit differs from the camera ray's."""
+    path, params = PRIMARY_SCENES[name]
+    scene = load(path, **params)
+    raster = hi.render(scene, spp=2, seed=7)
+    baseline = hi.render(scene, spp=2, seed=7, primary="raytrace")
+    a, b = np.array(raster.image), np.array(baseline.image)
+    mean = b.mean()
+    diff = np.abs(a - b)
+    assert mean > 0 and np.isfinite(a).all()
+    assert diff.mean() <= 1e-3 * mean
+    assert np.mean(diff.max(axis=-1) <= 1e-3 * mean) >= 0.995
+    assert raster.stats.rays["camera"] == 0 and baseline.stats.rays["camera"] == 2 * a.shape[0] * a.shape[1]
+    if name == "analytic spheres":
+        assert raster.stats.proxy_refinements > 0
+    # the same secondary rays from the same hits: counts agree to the silhouette pixels
+    assert abs(raster.stats.secondary_rays - baseline.stats.secondary_rays) <= 0.01 * baseline.stats.secondary_rays
+
+
+CONVERGENCE = {
+    "default": (DEFAULT_SCENE, dict(resx=96, resy=72)),
+    "showcase": (SHARED_SCENES / "cbox/showcase_coloured_glass.xml", dict(resx=96, resy=72)),
+}
+
+
+@pytest.mark.parametrize("name", list(CONVERGENCE))
+def test_all_effects_converge_to_mitsuba_path(name):
+    """shadow+reflection+refraction+indirect is Mitsuba's path estimator: at 256 spp its distance
+    to path is that of two path renders with different seeds."""
+    path, params = CONVERGENCE[name]
+    scene = load(path, **params)
+    spp, depth = 256, 8
+    hybrid = np.array(hi.render(scene, spp=spp, seed=11, max_depth=depth,
+                                effects="shadow,reflection,refraction,indirect").image)
+    integrator = mi.load_dict({"type": "path", "max_depth": depth})
+    path_a = np.array(mi.render(scene, integrator=integrator, spp=spp, seed=1))
+    path_b = np.array(mi.render(scene, integrator=integrator, spp=spp, seed=2))
+    assert abs(hybrid.mean() / path_a.mean() - 1) < 0.01
+    assert abs(path_b.mean() / path_a.mean() - 1) < 0.01
+
+    def rel_mse(x, y):
+        return np.mean((x - y) ** 2 / (y * y + 1e-2))
+
+    noise = rel_mse(path_b, path_a)
+    assert rel_mse(hybrid, path_a) < 1.25 * noise, (rel_mse(hybrid, path_a), noise)
+
+
+def test_no_candidates_or_zero_blend_show_the_raster_layer():
+    scene = load(DEFAULT_SCENE)
+    for props in ({"candidates": ""}, {"blend": 0.0}):
+        result = hi.render(scene, spp=2, **props)
+        image = np.array(result.image)
+        assert np.allclose(image, result.layers["raster"], rtol=1e-5, atol=1e-6)
+        assert image.mean() > 0.01
+    assert hi.render(scene, spp=2, candidates="").stats.secondary_rays == 0
+    # half-way blend: between the two layers on traced pixels
+    half = hi.render(scene, spp=1, blend=0.5)
+    traced = half.layers["traced"] > 0.999
+    expected = 0.5 * half.layers["rt"] + 0.5 * half.layers["raster"]
+    assert np.allclose(np.array(half.image)[traced], expected[traced], rtol=1e-4, atol=1e-5)
+
+
+def test_scene_xml_integrator_through_mi_render():
+    scene = mi.load_file(str(DEFAULT_SCENE), integrator="hybrid", resx=64, resy=40, spp=4)
+    integrator = scene.integrator()
+    assert integrator.class_name() == "SamplingIntegrator" or "Hybrid" in str(integrator)
+    image = mi.render(scene)
+    assert image.shape == (40, 64, 3)
+    assert integrator.last_result.stats.spp == 4 and integrator.last_result.stats.secondary_rays > 0
+    # numbers are exposed to mi.traverse and take effect on the next frame
+    params = mi.traverse(integrator)
+    assert set(params.keys()) == {"blend", "budget_ms"}
+    params["blend"] = 0.0
+    params.update()
+    assert integrator.settings.blend == 0.0
+    image = np.array(mi.render(scene))
+    assert np.allclose(image, integrator.last_result.layers["raster"], rtol=1e-5, atol=1e-6)
+
+
+def test_properties_from_a_dict():
+    integrator = mi.load_dict({"type": "hybrid", "max_depth": 3, "hide_emitters": True, "primary": "raytrace",
+                               "effects": "shadow, indirect", "candidates": "floor, block", "blend": 0.7,
+                               "budget_ms": 12.5})
+    s = integrator.settings
+    assert (s.max_depth, s.hide_emitters, s.primary, s.effects, s.candidates, s.blend, s.budget_ms) == \
+        (3, True, "raytrace", ("shadow", "indirect"), ("floor", "block"), 0.7, 12.5)
+
+
+def test_rays_follow_the_candidates():
+    """Per-pixel random streams make ray counts additive over disjoint candidate sets, and no pixel
+    outside the candidates is traced."""
+    scene = load(DEFAULT_SCENE)
+    ids = [s.id() for s in scene.shapes()]
+    first, second = ids[: len(ids) // 2], ids[len(ids) // 2:]
+    everything = hi.render(scene, spp=2, seed=3)
+    part_a = hi.render(scene, spp=2, seed=3, candidates=",".join(first))
+    part_b = hi.render(scene, spp=2, seed=3, candidates=",".join(second))
+    for kind in ("shadow", "reflection", "refraction"):
+        assert part_a.stats.rays[kind] + part_b.stats.rays[kind] == everything.stats.rays[kind]
+    assert 0 < part_a.stats.secondary_rays < everything.stats.secondary_rays
+    assert part_a.stats.pixels_traced + part_b.stats.pixels_traced == everything.stats.pixels_traced
+    gb = hi.rasterize(scene)
+    outside = np.isin(gb.shape_index, [ids.index(i) for i in second]) | ~gb.hit
+    # the traced layer is filtered like the image: look away from the outline of the candidates
+    from scipy.ndimage import binary_erosion
+    assert np.all(part_a.layers["traced"][binary_erosion(outside, iterations=3)] < 1e-3)
+
+
+def test_no_ray_where_no_effect_is_needed():
+    """Diffuse walls need shadow rays only: with reflection and refraction alone only the mirror and
+    the glass pixels are traced."""
+    scene = load(DEFAULT_SCENE)
+    result = hi.render(scene, spp=1, effects="reflection,refraction")
+    gb = hi.rasterize(scene)
+    specular = np.isin(gb.shape_index, [gb.shape_ids.index("mirror_sphere"), gb.shape_ids.index("glass_sphere")])
+    assert result.stats.rays["shadow"] == 0 and result.stats.rays["indirect"] == 0
+    assert abs(result.stats.pixels_traced - specular.sum()) <= 0.02 * specular.sum()
+
+
+@pytest.mark.parametrize("light", [
+    {"type": "point", "position": [0.3, 1.2, 0.4], "intensity": {"type": "rgb", "value": [3.0, 2.0, 1.0]}},
+    {"type": "spot", "to_world": mi.ScalarTransform4f().look_at([0, 1.5, 0], [0.2, 0, 0], [0, 0, 1]),
+     "cutoff_angle": 30.0, "beam_width": 20.0, "intensity": {"type": "rgb", "value": [4.0, 4.0, 4.0]}},
+    {"type": "directional", "direction": [0.3, -1.0, 0.2], "irradiance": {"type": "rgb", "value": [1.0, 0.5, 0.25]}},
+], ids=["point", "spot", "directional"])
+def test_raster_layer_lights_a_diffuse_floor_like_mitsuba(light):
+    """Without occluders, the GLSL deferred lighting of a diffuse floor by a delta light equals
+    Mitsuba's own direct illumination (the shadow-ray layer)."""
+    scene = mi.load_dict({
+        "type": "scene", "light": light,
+        "floor": {"type": "rectangle", "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale(2.0),
+                  "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.8, 0.6, 0.4]}}},
+        "sensor": {"type": "perspective", "fov": 60, "to_world": mi.ScalarTransform4f().look_at([0, 2, 3], [0, 0, 0], [0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 96, "height": 64, "rfilter": {"type": "box"}}}})
+    result = hi.render(scene, spp=1, effects="shadow")
+    traced = result.layers["traced"] > 0.5
+    assert traced.mean() > 0.5
+    raster, rt = result.layers["raster"][traced], result.layers["rt"][traced]
+    lit = rt.max(axis=-1) > 1e-3
+    assert lit.mean() > 0.1
+    assert np.allclose(raster[lit], rt[lit], rtol=2e-3, atol=1e-5)
+
+
+def test_bad_properties_are_clear_errors():
+    cases = [({"effects": "glow"}, "unknown effect"), ({"primary": "camera"}, "primary='camera' is not one of"),
+             ({"blend": 1.5}, r"blend=1.5 must lie in \[0, 1\]"), ({"budget_ms": -1.0}, "budget_ms=-1.0 is impossible"),
+             ({"budget_ms": float("nan")}, "budget_ms=nan is impossible"), ({"max_depth": -3}, "max_depth=-3"),
+             ({"colour": 1}, "has no property 'colour'")]
+    for props, message in cases:
+        with pytest.raises(Exception, match=message):
+            mi.load_dict({"type": "hybrid", **props})
+    with pytest.raises(hi.HybridError, match=r"unknown candidate shape id\(s\) \['teapot'\]"):
+        hi.render(load(DEFAULT_SCENE), spp=1, candidates="floor,teapot")
+
+
+def test_scalar_variant_is_refused():
+    mi.set_variant("scalar_rgb")
+    hi.register()
+    with pytest.raises(Exception, match="'scalar_rgb' is not supported"):
+        mi.load_dict({"type": "hybrid"})
+
+
+def test_cli_render_writes_exr_png_and_stats(tmp_path, capsys):
+    out = tmp_path / "frame.exr"
+    assert cli(["render", str(DEFAULT_SCENE), "-o", str(out), "--spp", "2", "-D", "resx=64", "-D", "resy=48",
+                "--effects", "shadow,reflection"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    channels, _ = read_exr(out)
+    assert {"R", "G", "B", "raster.R", "rt.G", "traced.Y"} <= set(channels)
+    assert channels["R"].shape == (48, 64)
+    stats = json.loads(out.with_suffix(".json").read_text())
+    assert stats == report["stats"] and stats["spp"] == 2 and stats["rays"]["refraction"] == 0
+    assert mi.Bitmap(str(out.with_suffix(".png"))).width() == 64
+
+
+def test_cli_compare_reports_time_and_error(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("HYBRID_CACHE", str(tmp_path / "cache"))
+    args = ["compare", str(DEFAULT_SCENE), "-o", str(tmp_path / "cmp"), "--spp", "2", "--gt-spp", "16",
+            "-D", "resx=48", "-D", "resy=32", "--max-depth", "4"]
+    assert cli(args) == 0
+    first = json.loads((tmp_path / "cmp" / "compare.json").read_text())
+    assert not first["ground_truth"]["cached"]
+    assert [m["method"] for m in first["methods"]] == ["raster", "hybrid", "rt-baseline", "path"]
+    for m in first["methods"]:
+        assert m["time_ms"] > 0 and 0 <= m["flip"] <= 1 and m["rel_mse"] >= 0 and m["delta_e2000"] >= 0
+    assert (tmp_path / "cmp" / "errors.png").is_file() and (tmp_path / "cmp" / "compare.md").is_file()
+    assert cli(args) == 0  # the ground truth now comes from the cache
+    assert json.loads((tmp_path / "cmp" / "compare.json").read_text())["ground_truth"]["cached"]
+    capsys.readouterr()
