@@ -165,7 +165,7 @@ class HybridRenderer:
                 valid = si.is_valid()
                 hits = PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, si.shape, valid), valid=valid)
                 stats.rays["camera"] += w * h
-            clock.lap("raster", hits.si.p, hits.valid)
+            clock.lap("raster", hits.ray, hits.si, hits.shape_index, hits.valid)  # all of it: Dr.Jit is lazy
 
             # 2. deferred lighting: the raster layer (§3.1, Fig. 1g)
             targets = compute_aovs(scene, hits, (h, w), tuple(dict.fromkeys(tuple(INPUTS) + aovs)))
@@ -194,7 +194,7 @@ class HybridRenderer:
             image_block.put(pos, [color.x, color.y, color.z] + ([alpha] if has_alpha else []) + [mi.Float(1.0)])
             traced = dr.select(selection.traced, 1.0, 0.0)
             layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, traced, mi.Float(1.0)])
-            clock.lap("compose")
+            clock.lap("compose", image_block.tensor(), layer_block.tensor())  # the splats are lazy too
 
         film.put_block(image_block)
         image = film.develop()
