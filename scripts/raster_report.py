@@ -6,7 +6,7 @@ camera rays (hybrid_integrator.raster.agreement). At 1280×720 it then times, as
 repeated frames after a warm-up: the raster pass with read-back to the host, and, for scale, Mitsuba's
 camera rays + ``ray_intersect_preliminary`` (what the raster replaces), synchronized.
 
-    python scripts/raster_report.py --variant llvm_ad_rgb -o docs/results/raster_cpu
+    python scripts/raster_report.py --variant llvm_ad_rgb -o docs/results/cpu/raster_cpu
     python scripts/raster_report.py --variant cuda_ad_rgb -o docs/results/raster_gpu   # GPU machine
 
 Writes OUT.json and OUT.md.
@@ -51,7 +51,7 @@ def main() -> None:
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--shared", type=Path, default=ROOT.parent / "shared/scenes", help="folder of the shared scenes")
     parser.add_argument("--repeats", type=int, default=10)
-    parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs/results/raster_cpu")
+    parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs/results/cpu/raster_cpu")
     args = parser.parse_args()
 
     import hybrid_integrator as hi
