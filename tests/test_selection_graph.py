@@ -1,0 +1,79 @@
+"""The selection graph (paper §4.2–4.3), greedy and exact selection."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hybrid_integrator.selection_graph import Node, SelectionGraph, select, select_exact, select_greedy
+
+# The paper's Table 1: nodes 9..22 with their cost and relevance (Fig. 2)
+TABLE_1 = [(20, 22), (19, 21), (18, 18), (17, 30), (16, 31), (15, 32), (14, 28), (14, 27), (13, 9), (12, 29),
+           (11, 1), (10, 20), (9, 4), (9, 3)]
+
+
+def paper_graph(pointers=4):
+    return SelectionGraph([Node(f"c{c}r{r}", c, r) for c, r in TABLE_1], pointers=pointers)
+
+
+def test_paper_example_figure_3():
+    """Time left for a cost of 18: the nodes of cost 20 and 19 move to the next graph, and the node of
+    cost 15 and relevance 32 is selected rather than the node of cost 18."""
+    graph = paper_graph()
+    chosen = graph.select_one(18)
+    assert (chosen.cost, chosen.relevance) == (15, 32)
+    assert [(n.cost, n.relevance) for n in graph.moved[:2]] == [(20, 22), (19, 21)]
+    assert (15, 32) not in [(n.cost, n.relevance) for n in graph.nodes]
+    # the cost-18 node stays available in this frame's graph
+    assert (18, 18) in [(n.cost, n.relevance) for n in graph.nodes]
+
+
+def test_graph_structure():
+    graph = paper_graph(pointers=3)
+    costs = [n.cost for n in graph.nodes]
+    assert costs == sorted(costs, reverse=True)  # the cost chain
+    for i, targets in graph.links.items():
+        assert len(targets) <= 3
+        assert all(j > i and graph.nodes[j].relevance > graph.nodes[i].relevance for j in targets)
+        assert [graph.nodes[j].relevance for j in targets] == sorted((graph.nodes[j].relevance for j in targets), reverse=True)
+    # the cost-18 node points first to the most relevant cheaper node
+    i18 = next(i for i, n in enumerate(graph.nodes) if n.cost == 18)
+    assert graph.nodes[graph.links[i18][0]].relevance == 32
+
+
+def test_selection_respects_budget_and_moves_everything():
+    graph = paper_graph()
+    chosen = graph.select(40)
+    assert sum(n.cost for n in chosen) <= 40
+    assert [(n.cost, n.relevance) for n in chosen][0] == (16, 31) or chosen[0].relevance >= 31
+    assert len(graph.nodes) == 0 and len(graph.moved) == len(TABLE_1)  # all carried to the next graph
+    assert select("graph", [], 10) == [] and paper_graph().select(5) == []
+
+
+def test_greedy_and_exact():
+    nodes = [Node(k, c, r) for k, (c, r) in enumerate(TABLE_1)]
+    exact = select_exact(nodes, 30)
+    greedy = select_greedy(nodes, 30)
+    for chosen in (exact, greedy):
+        assert sum(n.cost for n in chosen) <= 30
+    # optimum by brute force
+    best = 0
+    for mask in range(1 << len(nodes)):
+        c = sum(n.cost for k, n in enumerate(nodes) if mask >> k & 1)
+        if c <= 30:
+            best = max(best, sum(n.relevance for k, n in enumerate(nodes) if mask >> k & 1))
+    assert sum(n.relevance for n in exact) == best
+    assert sum(n.relevance for n in greedy) <= best
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_no_selector_beats_the_optimum(seed):
+    rng = np.random.default_rng(seed)
+    nodes = [Node(k, float(c), float(r)) for k, (c, r) in enumerate(zip(rng.uniform(1, 10, 12), rng.uniform(0, 5, 12)))]
+    budget = 0.4 * sum(n.cost for n in nodes)
+    optimum = sum(n.relevance for n in select("exact", nodes, budget))
+    for method in ("graph", "greedy"):
+        chosen = select(method, nodes, budget)
+        assert sum(n.cost for n in chosen) <= budget + 1e-9
+        assert sum(n.relevance for n in chosen) <= optimum + 1e-9
+    with pytest.raises(ValueError, match="selection='best'"):
+        select("best", nodes, budget)
