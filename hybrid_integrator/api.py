@@ -5,6 +5,7 @@ from collections import OrderedDict
 from typing import Callable
 
 import mitsuba as mi
+import numpy as np
 
 from .environment import require_jit_rgb_variant
 from .errors import HybridError
@@ -72,14 +73,63 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     return GBuffer(**vars(vis), **targets, shape_ids=tuple(s.name for s in raster.shapes))
 
 
-def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor = 0, aovs=(), **properties):
-    """Render one hybrid frame; ``properties`` are the ``hybrid`` integrator's (``primary``,
-    ``effects``, ``candidates``, ``blend``, ``max_depth``, ...). Returns a ``HybridResult``
-    with ``image`` (as ``mi.render`` returns it), ``layers`` and ``stats``."""
+def _integrator(properties: dict):
     from .plugins.hybrid import HybridIntegrator, register
 
     require_jit_rgb_variant()
     register()  # for the active variant, whichever it is now
+    if isinstance(properties.get("candidates"), dict):  # a mapping is not a Mitsuba property
+        candidates = properties.pop("candidates")
+        properties["candidates"] = ", ".join(name if kinds is None else f"{name}:{kinds if isinstance(kinds, str) else '|'.join(kinds)}"
+                                             for name, kinds in candidates.items())
     integrator = mi.load_dict({"type": "hybrid", **properties})
     assert isinstance(integrator, HybridIntegrator)
-    return integrator.render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs)
+    return integrator
+
+
+def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor = 0, aovs=(), **properties):
+    """Render one hybrid frame; ``properties`` are the ``hybrid`` integrator's (``primary``,
+    ``effects``, ``candidates`` (a string or a mapping ``{id: kinds}``), ``blend``, ``budget_ms``,
+    ...). Returns a ``HybridResult`` with ``image`` (as ``mi.render`` returns it), ``layers`` and
+    ``stats``."""
+    return _integrator(dict(properties)).render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs)
+
+
+def camera_path(keyframes, frames: int) -> list[mi.ScalarTransform4f]:
+    """``frames`` camera transforms along the piecewise-linear path through look-at ``keyframes``
+    ``[(origin, target), ...]`` or ``[(origin, target, up), ...]`` (default up: +y)."""
+    keys = [(np.asarray(k[0], float), np.asarray(k[1], float), np.asarray(k[2] if len(k) > 2 else (0, 1, 0), float))
+            for k in keyframes]
+    if len(keys) < 2 or frames < 1:
+        raise HybridError("a camera path needs at least two key frames and one frame")
+    out = []
+    for t in np.linspace(0.0, len(keys) - 1, frames):
+        i = min(int(t), len(keys) - 2)
+        u = t - i
+        origin, target, up = ((1 - u) * a + u * b for a, b in zip(keys[i], keys[i + 1]))
+        out.append(mi.ScalarTransform4f().look_at(origin=origin.tolist(), target=target.tolist(), up=up.tolist()))
+    return out
+
+
+def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, sensor: int | mi.Sensor = 0,
+                    **properties) -> list:
+    """Render a camera path: one frame per camera transform (``mi.ScalarTransform4f`` or 4×4
+    matrix, e.g. from :func:`camera_path`), carrying the previous frame's selection (S of eq. 3)
+    and the calibrated cost model from frame to frame (paper §4.3). Returns one ``HybridResult``
+    per frame; each ``stats`` holds the selected objects, predicted and measured trace time,
+    ``budget_met`` and ``selection_changes``. The sensor's own transform is restored afterwards."""
+    integrator = _integrator(dict(properties))
+    sensor = resolve_sensor(scene, sensor)
+    params = mi.traverse(sensor)
+    original = mi.ScalarTransform4f(np.array(params["to_world"].matrix, dtype=np.float64).reshape(4, 4))
+    results = []
+    try:
+        for frame, camera in enumerate(cameras):
+            matrix = np.array(camera.matrix if hasattr(camera, "matrix") else camera, dtype=np.float64).reshape(4, 4)
+            params["to_world"] = mi.ScalarTransform4f(matrix)
+            params.update()
+            results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp))
+    finally:
+        params["to_world"] = original
+        params.update()
+    return results

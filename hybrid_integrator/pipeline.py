@@ -27,11 +27,14 @@ from .raster.camera import RasterCamera, resolve_sensor
 from .raster.gbuffer import check_aovs, compute_aovs
 from .raster.lighting import INPUTS, DeferredLighting
 from .raster.visibility import Rasterizer
-from .selection import DEFAULT_EFFECTS, parse_candidates, parse_effects, select_pixels
+from .budget import FramePlan, FrameState, plan_frame
+from .heuristic import candidate_kinds, object_relevance
+from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
+from .selection_graph import SELECTORS
 from .trace import RAY_KINDS, TraceCounts, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
-STAGES = ("raster", "lighting", "trace", "compose", "total")
+STAGES = ("raster", "lighting", "select", "trace", "compose", "total")
 
 
 @dataclass(frozen=True)
@@ -43,16 +46,20 @@ class HybridSettings:
     hide_emitters: bool = False
     primary: str = "raster"
     effects: tuple[str, ...] = DEFAULT_EFFECTS
-    candidates: tuple[str, ...] | None = None  # None: every shape
+    candidates: object = None  # None: every shape; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
     budget_ms: float = 0.0
+    selection: str = "greedy"
+    importance: float = 0.0
 
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
         object.__setattr__(self, "effects", parse_effects(self.effects))
-        if isinstance(self.candidates, str):
-            object.__setattr__(self, "candidates", tuple(c.strip() for c in self.candidates.split(",") if c.strip()))
+        if self.selection not in SELECTORS:
+            raise HybridError(f"selection='{self.selection}' is not one of {list(SELECTORS)}")
+        if not (math.isfinite(self.importance) and self.importance >= 0.0):
+            raise HybridError(f"importance={self.importance} must be a number >= 0")
         if not (math.isfinite(self.blend) and 0.0 <= self.blend <= 1.0):
             raise HybridError(f"blend={self.blend} must lie in [0, 1]")
         if not (math.isfinite(self.budget_ms) and self.budget_ms >= 0.0):
@@ -78,13 +85,24 @@ class FrameStats:
     proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
     edge_refinements: int = 0  # silhouette pixel-samples whose raster hit was re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
+    budget_ms: float = 0.0  # 0: unlimited
+    predicted_trace_ms: float = 0.0  # what the cost model expected for the batches traced
+    candidates_visible: int = 0
+    selected: tuple[str, ...] = ()  # objects traced this frame, most relevant first
+    relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
+    selection_changes: int = 0  # objects traced now but not in the previous frame, or the reverse
+    batches: int = 0
+
+    @property
+    def budget_met(self) -> bool:
+        return self.budget_ms <= 0 or self.times_ms["trace"] <= self.budget_ms
 
     @property
     def secondary_rays(self) -> int:
         return sum(self.rays[k] for k in RAY_KINDS)
 
     def as_dict(self) -> dict:
-        return {**asdict(self), "secondary_rays": self.secondary_rays}
+        return {**asdict(self), "secondary_rays": self.secondary_rays, "budget_met": self.budget_met}
 
 
 @dataclass
@@ -127,17 +145,21 @@ class HybridRenderer:
         self.lighting = DeferredLighting(scene)
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
-               aovs=()) -> HybridResult:
+               aovs=(), state: FrameState | None = None) -> HybridResult:
+        """One frame. ``state`` carries the previous frame's selection and the cost model into this
+        one (a fresh state: the first frame of a sequence)."""
         scene = self.scene
         sensor = resolve_sensor(scene, sensor)
         camera = RasterCamera.from_sensor(sensor)
         aovs = check_aovs(aovs)
         spp = int(spp) or sensor.sampler().sample_count()
-        candidates = parse_candidates(settings.candidates, scene)
+        state = state if state is not None else FrameState()
+        kinds = candidate_kinds(settings.candidates, scene)
+        names = [shape.id() for shape in scene.shapes()]
         has_emitters = len(scene.emitters()) > 0
         w, h = camera.width, camera.height
         stats = FrameStats(width=w, height=h, spp=spp, primary=settings.primary,
-                           lights_left_out=self.lighting.lights.approximated)
+                           lights_left_out=self.lighting.lights.approximated, budget_ms=settings.budget_ms)
 
         film = sensor.film()
         film.prepare([])
@@ -177,23 +199,44 @@ class HybridRenderer:
                 first_targets = {k: targets[k] for k in aovs}
             clock.lap("lighting", raster)
 
-            # 3.-4. selection and ray tracing of the selected pixels' effects (§3.2, §4.1)
-            selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid, candidates, settings.effects,
-                                      has_emitters)
-            stats.pixels_traced += selection.count
-            rt, pass_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
-                                            settings.max_depth, settings.rr_depth, settings.hide_emitters,
-                                            seed=(int(seed) << 32) + sample)
-            counts.add(pass_counts)
-            clock.lap("trace", rt)
+            # 3. selection (§4): planned once per frame, from its first pass's primary hits
+            if sample == 0:
+                plan = self._plan(hits, camera, kinds, names, settings, state, spp)
+            clock.lap("select")
+
+            # 4. ray tracing (§3.2): batch by batch, most relevant first, within the budget
+            rt, traced = dr.zeros(mi.Color3f, w * h), dr.zeros(mi.Bool, w * h)
+            elapsed = 0.0
+            for i, batch in enumerate(list(plan.batches)):
+                predicted = state.cost_model.predict(batch.rays)
+                if sample == 0 and elapsed + predicted > plan.pass_budget_ms:
+                    plan.cut(i)  # would overrun: this and the less relevant batches show the raster layer
+                    break
+                selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid, batch.mask, batch.effects,
+                                          has_emitters)
+                batch_start = time.perf_counter()
+                batch_rt, batch_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
+                                                       settings.max_depth, settings.rr_depth, settings.hide_emitters,
+                                                       seed=(int(seed) << 32) + sample, first_effects=batch.effects)
+                batch_ms = (time.perf_counter() - batch_start) * 1e3  # trace_effects returns evaluated
+                state.cost_model.observe(batch_counts.rays, batch_ms)
+                total_pixels = max(sum(batch.pixels.values()), 1)
+                for k, n in batch.pixels.items():
+                    state.learn_rays(k, n, {kind: v * n / total_pixels for kind, v in batch_counts.rays.items()})
+                rt += batch_rt
+                traced |= selection.traced
+                counts.add(batch_counts)
+                stats.pixels_traced += selection.count
+                stats.predicted_trace_ms += float(predicted)
+                elapsed += batch_ms
+            clock.lap("trace", rt, traced)
 
             # 5. composition (§5), splatted like a camera ray through the same film position
-            color = compose(raster, rt, selection.traced, settings.blend)
+            color = compose(raster, rt, traced, settings.blend)
             alpha = dr.select(hits.valid | (scene.environment() is not None and not settings.hide_emitters), 1.0, 0.0)
             pos = pixel if box else pixel + mi.Vector2f(*(dr.opaque(mi.Float, o) for o in offset))
             image_block.put(pos, [color.x, color.y, color.z] + ([alpha] if has_alpha else []) + [mi.Float(1.0)])
-            traced = dr.select(selection.traced, 1.0, 0.0)
-            layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, traced, mi.Float(1.0)])
+            layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(traced, 1.0, 0.0), mi.Float(1.0)])
             clock.lap("compose", image_block.tensor(), layer_block.tensor())  # the splats are lazy too
 
         film.put_block(image_block)
@@ -202,8 +245,31 @@ class HybridRenderer:
         dr.sync_thread()
         stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
         stats.rays.update(counts.rays)
+        self._record_selection(plan, state, stats, names)
         sums = np.array(layer_block.tensor())
         weight = np.maximum(sums[..., 7:8], 1e-12)
         layers = {"raster": sums[..., 0:3] / weight, "rt": sums[..., 3:6] / weight, "traced": sums[..., 6] / weight[..., 0],
                   **first_targets}
         return HybridResult(image=image, layers=layers, stats=stats)
+
+    def _plan(self, hits: PrimaryHits, camera: RasterCamera, kinds, names, settings: HybridSettings,
+              state: FrameState, spp: int) -> FramePlan:
+        """Eq. 1–3 from this pass's primary hits, then the selection within the budget."""
+        h, w = camera.height, camera.width
+        shape_index = np.where(np.array(hits.valid), np.array(hits.shape_index, dtype=np.int64), -1).reshape(h, w)
+        depth = np.array(dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))).reshape(h, w)
+        objects = object_relevance(shape_index, depth, kinds, names, settings.effects, state.selected,
+                                   settings.importance, state.rays_per_pixel)
+        return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model)
+
+    @staticmethod
+    def _record_selection(plan: FramePlan, state: FrameState, stats: FrameStats, names) -> None:
+        traced = plan.traced
+        ordered = [o for o in plan.objects if o.index in traced]
+        total = sum(o.relevance for o in plan.objects)
+        stats.candidates_visible = len(plan.objects)
+        stats.selected = tuple(names[o.index] for o in ordered)
+        stats.relevance_captured = float(sum(o.relevance for o in ordered) / total) if total > 0 else 1.0
+        stats.selection_changes = len(traced ^ state.selected)
+        stats.batches = len(plan.batches)
+        state.selected = traced

@@ -14,9 +14,9 @@ refraction    delta or glossy transmission, or a null lobe      BSDF-sampled ref
 indirect      diffuse reflection or transmission                BSDF-sampled diffuse rays
 ============  ===============================================  ============================
 
-A pixel is traced when its shape is a candidate and it needs at least one enabled effect; every
-other pixel shows the raster layer (§5). The relevance/cost heuristic of §4 narrows the candidates
-per frame (a later stage).
+A pixel is traced when its shape is selected this frame (``heuristic.py``, ``budget.py``: the
+candidates of §4.1 narrowed by the relevance/cost heuristic) and it needs at least one of the
+effects its object deserves; every other pixel shows the raster layer (§5).
 """
 from __future__ import annotations
 
@@ -58,20 +58,6 @@ def parse_effects(value) -> tuple[str, ...]:
     return tuple(e for e in EFFECTS if e in names)
 
 
-def parse_candidates(value, scene: mi.Scene) -> np.ndarray:
-    """Candidate flag per ``scene.shapes()`` entry. ``None`` means every shape; otherwise a comma
-    list (or sequence) of shape ids, each of which must exist."""
-    shapes = scene.shapes()
-    if value is None:
-        return np.ones(len(shapes), dtype=bool)
-    names = [v.strip() for v in (value.split(",") if isinstance(value, str) else value) if v.strip()]
-    ids = [s.id() for s in shapes]
-    unknown = [n for n in names if n not in ids]
-    if unknown:
-        raise HybridError(f"unknown candidate shape id(s) {unknown}: the scene's shapes are {ids}")
-    return np.array([i in names for i in ids], dtype=bool)
-
-
 @dataclass(frozen=True)
 class Selection:
     """Per-pixel outcome of the selection stage for one pass."""
@@ -81,8 +67,9 @@ class Selection:
 
 
 def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, shape_index: mi.UInt32, valid: mi.Bool,
-                  candidates: np.ndarray, effects: tuple[str, ...], has_emitters: bool) -> Selection:
-    """Traced pixels: candidate shapes whose BSDF needs one of the enabled effects."""
+                  shapes: np.ndarray, effects: tuple[str, ...], has_emitters: bool) -> Selection:
+    """Traced pixels: pixels of the ``shapes`` (bool per scene shape) whose BSDF needs one of the
+    ``effects``."""
     flags = si.bsdf(ray).flags()
     need = mi.Bool(False)
     if "shadow" in effects and has_emitters:
@@ -90,6 +77,6 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, shape_index: mi.UI
     continued = lobes(effects)
     if continued:
         need |= (flags & continued) != 0
-    is_candidate = dr.gather(mi.Bool, mi.Bool(candidates), shape_index, valid) if candidates.size else mi.Bool(False)
-    traced = valid & is_candidate & need
+    chosen = dr.gather(mi.Bool, mi.Bool(shapes), shape_index, valid) if shapes.size else mi.Bool(False)
+    traced = valid & chosen & need
     return Selection(traced=traced, count=count(traced))

@@ -57,11 +57,28 @@ def _kind_of(sampled_type: mi.UInt32) -> dict[str, mi.Bool]:
             "indirect": mi.has_flag(sampled_type, F.Diffuse)}
 
 
+class Lobes:
+    """What a path vertex does: a shadow ray (or unshadowed light) and the BSDF lobes followed.
+    (A plain class, not a dataclass: Dr.Jit's loops would take a dataclass for loop state.)"""
+
+    __slots__ = ("shadow", "follow")
+
+    def __init__(self, shadow: bool, follow: int):
+        self.shadow = shadow
+        self.follow = follow  # BSDFFlags bits
+
+    @classmethod
+    def of(cls, effects: tuple[str, ...]) -> "Lobes":
+        return cls(shadow="shadow" in effects, follow=followed_lobes(effects))
+
+
 def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, traced: mi.Bool,
                   effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool,
-                  seed: int) -> tuple[mi.Color3f, TraceCounts]:
+                  seed: int, first_effects: tuple[str, ...] | None = None) -> tuple[mi.Color3f, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
-    primary rays and hits of every pixel, ``seed`` distinguishes passes."""
+    primary rays and hits of every pixel, ``seed`` distinguishes passes. ``first_effects`` (default
+    ``effects``) are the rays spawned at the primary hit, the kinds its object deserves (§4.1);
+    deeper vertices use ``effects``."""
     radiance = dr.zeros(mi.Color3f, dr.width(traced))
     pixel = dr.compress(traced)  # only the selected pixels are traced: cost follows the selection
     if dr.width(pixel) == 0:
@@ -72,83 +89,96 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     # offset; the pass seed is opaque so that the kernel is not recompiled every pass
     rng = mi.PCG32(dr.width(pixel))
     rng.seed(dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))
-    L, rays = _paths(scene, ray, si, rng, effects, max_depth, rr_depth, hide_emitters)
+    first = Lobes.of(first_effects if first_effects is not None else effects)
+    L, rays = _paths(scene, ray, si, rng, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
     dr.scatter(radiance, L, pixel)
     totals = [dr.sum(r) for r in rays]
     dr.eval(radiance, *totals)
     return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))))
 
 
-@dr.syntax
-def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, effects: tuple[str, ...],
-           max_depth: int, rr_depth: int, hide_emitters: bool):
-    """The path loop (one symbolic Dr.Jit loop, as Mitsuba's ``path``) from the primary hits ``si``.
-    Returns the radiance and, per ray kind, the rays each lane traced."""
-    shadow_rays = "shadow" in effects
-    follow = followed_lobes(effects)
-    following = follow != 0  # a Python bool: @dr.syntax keeps such conditions out of the kernel
+@dataclass
+class _Path:
+    """The state of a batch of paths between two vertices (the symbolic loop's variables)."""
+
+    ray: mi.Ray3f
+    si: mi.SurfaceInteraction3f
+    rng: mi.PCG32
+    L: mi.Color3f
+    beta: mi.Color3f
+    eta: mi.Float
+    depth: mi.UInt32
+    active: mi.Bool
+    rays: list  # per ray kind (RAY_KINDS order), per lane
+
+
+def _vertex(scene: mi.Scene, p: _Path, lobes: Lobes, depth_limit: int, rr_depth: int) -> None:
+    """One path vertex, as Mitsuba's ``path``: emitter sampling (a shadow ray or unshadowed light),
+    then BSDF sampling of the followed lobes, the next intersection and the light it reaches,
+    MIS-weighted. Updates ``p`` in place."""
+    si = p.si
+    bsdf = si.bsdf(p.ray)
+    active_next = p.active & si.is_valid() & (p.depth + 1 < depth_limit)
     ctx_follow = mi.BSDFContext()
-    ctx_follow.type_mask = follow
+    ctx_follow.type_mask = lobes.follow
     ctx_rest = mi.BSDFContext()
-    ctx_rest.type_mask = int(mi.BSDFFlags.All) & ~follow
-    has_emitters = len(scene.emitters()) > 0
-    depth_limit = max_depth if max_depth >= 0 else 2**31 - 1
+    ctx_rest.type_mask = int(mi.BSDFFlags.All) & ~lobes.follow
 
+    if len(scene.emitters()) > 0:
+        nee = active_next & mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
+        ds, em_weight = scene.sample_emitter_direction(si, mi.Point2f(p.rng.next_float32(), p.rng.next_float32()),
+                                                       lobes.shadow, nee)
+        wo = si.to_local(ds.d)
+        value = bsdf.eval(ctx_rest, si, wo, nee)
+        if lobes.follow:
+            value_follow, pdf_follow = bsdf.eval_pdf(ctx_follow, si, wo, nee)
+            value += value_follow * dr.select(ds.delta, 1.0, _mis(ds.pdf, pdf_follow))
+        p.L += dr.select(nee, p.beta * em_weight * value, 0.0)
+        if lobes.shadow:
+            p.rays[0] += dr.select(nee & (ds.pdf > 0), 1, 0)
+
+    if not lobes.follow:
+        p.active = mi.Bool(False)
+        return
+    bs, weight = bsdf.sample(ctx_follow, si, p.rng.next_float32(), mi.Point2f(p.rng.next_float32(), p.rng.next_float32()),
+                             active_next)
+    p.beta *= weight
+    p.eta *= bs.eta
+    rr_prob = dr.minimum(dr.max(p.beta) * p.eta * p.eta, 0.95)
+    rr_active = p.depth + 1 >= rr_depth
+    p.beta[rr_active] *= dr.rcp(rr_prob)
+    active_next &= (bs.pdf > 0) & (dr.max(p.beta) > 0) & (~rr_active | (p.rng.next_float32() < rr_prob))
+    for k, mask in enumerate(_kind_of(bs.sampled_type).values(), start=1):
+        p.rays[k] += dr.select(active_next & mask, 1, 0)
+
+    prev_delta = mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta)
+    p.ray = si.spawn_ray(si.to_world(bs.wo))
+    p.si = scene.ray_intersect(p.ray, mi.RayFlags.All, False, active_next)
+    # light reached by BSDF sampling, MIS-weighted against emitter sampling
+    ds = mi.DirectionSample3f(scene, p.si, si)
+    em_pdf = dr.select(prev_delta, 0.0, scene.pdf_emitter_direction(si, ds, ~prev_delta & active_next))
+    p.L += dr.select(active_next, p.beta * _mis(bs.pdf, em_pdf) * p.si.emitter(scene).eval(p.si, active_next), 0.0)
+    p.depth += 1
+    p.active = active_next
+
+
+@dr.syntax
+def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, first: Lobes, rest: Lobes,
+           max_depth: int, rr_depth: int, hide_emitters: bool):
+    """The paths from the primary hits ``si``: the primary vertex with the object's own lobes, then
+    one symbolic Dr.Jit loop (as Mitsuba's ``path``) with the integrator's. Returns the radiance
+    and, per ray kind, the rays each lane traced."""
     n = dr.width(rng.state)
-    L = dr.zeros(mi.Color3f, n)
-    if not hide_emitters:
-        L = mi.Color3f(si.emitter(scene).eval(si))
-    beta = dr.full(mi.Color3f, 1.0, n)
-    eta = dr.full(mi.Float, 1.0, n)
-    depth = dr.zeros(mi.UInt32, n)
-    n_shadow, n_reflection, n_refraction, n_indirect = (dr.zeros(mi.UInt32, n) for _ in range(4))
-    active = dr.full(mi.Bool, True, n)
-
+    depth_limit = max_depth if max_depth >= 0 else 2**31 - 1
+    emitted = dr.zeros(mi.Color3f, n) if hide_emitters else mi.Color3f(si.emitter(scene).eval(si))
+    p = _Path(ray=ray, si=si, rng=rng, L=emitted, beta=dr.full(mi.Color3f, 1.0, n), eta=dr.full(mi.Float, 1.0, n),
+              depth=dr.zeros(mi.UInt32, n), active=dr.full(mi.Bool, True, n),
+              rays=[dr.zeros(mi.UInt32, n) for _ in RAY_KINDS])
+    _vertex(scene, p, first, depth_limit, rr_depth)
+    # the loop's state variables, one by one, as dr.while_loop tracks them
+    ray, si, rng, L, beta, eta, depth, active, rays = p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays
     while active:
-        bsdf = si.bsdf(ray)
-        active_next = active & si.is_valid() & (depth + 1 < depth_limit)
-
-        # direct light by emitter sampling: through a shadow ray, or unshadowed
-        if has_emitters:
-            nee = active_next & mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
-            ds, em_weight = scene.sample_emitter_direction(si, mi.Point2f(rng.next_float32(), rng.next_float32()),
-                                                           shadow_rays, nee)
-            wo = si.to_local(ds.d)
-            value = bsdf.eval(ctx_rest, si, wo, nee)
-            if following:
-                value_follow, pdf_follow = bsdf.eval_pdf(ctx_follow, si, wo, nee)
-                value += value_follow * dr.select(ds.delta, 1.0, _mis(ds.pdf, pdf_follow))
-            L += dr.select(nee, beta * em_weight * value, 0.0)
-            if shadow_rays:
-                n_shadow += dr.select(nee & (ds.pdf > 0), 1, 0)
-
-        # continue along the followed lobes only
-        if following:
-            bs, weight = bsdf.sample(ctx_follow, si, rng.next_float32(),
-                                     mi.Point2f(rng.next_float32(), rng.next_float32()), active_next)
-            beta *= weight
-            eta *= bs.eta
-            rr_prob = dr.minimum(dr.max(beta) * eta * eta, 0.95)
-            rr_active = depth + 1 >= rr_depth
-            beta[rr_active] *= dr.rcp(rr_prob)
-            active_next &= (bs.pdf > 0) & (dr.max(beta) > 0) & (~rr_active | (rng.next_float32() < rr_prob))
-            kind = _kind_of(bs.sampled_type)
-            n_reflection += dr.select(active_next & kind["reflection"], 1, 0)
-            n_refraction += dr.select(active_next & kind["refraction"], 1, 0)
-            n_indirect += dr.select(active_next & kind["indirect"], 1, 0)
-
-            prev_si = si
-            prev_pdf = bs.pdf
-            prev_delta = mi.has_flag(bs.sampled_type, mi.BSDFFlags.Delta)
-            ray = si.spawn_ray(si.to_world(bs.wo))
-            si = scene.ray_intersect(ray, mi.RayFlags.All, False, active_next)
-
-            # light reached by BSDF sampling, MIS-weighted against emitter sampling
-            ds = mi.DirectionSample3f(scene, si, prev_si)
-            em_pdf = dr.select(prev_delta, 0.0, scene.pdf_emitter_direction(prev_si, ds, ~prev_delta & active_next))
-            L += dr.select(active_next, beta * _mis(prev_pdf, em_pdf) * si.emitter(scene).eval(si, active_next), 0.0)
-        else:
-            active_next = mi.Bool(False)
-        depth += 1
-        active = active_next
-    return L, (n_shadow, n_reflection, n_refraction, n_indirect)
+        q = _Path(ray=ray, si=si, rng=rng, L=L, beta=beta, eta=eta, depth=depth, active=active, rays=list(rays))
+        _vertex(scene, q, rest, depth_limit, rr_depth)
+        ray, si, rng, L, beta, eta, depth, active, rays = q.ray, q.si, q.rng, q.L, q.beta, q.eta, q.depth, q.active, q.rays
+    return L, rays

@@ -10,7 +10,9 @@
         <integer name="max_depth" value="-1"/>         <!-- as Mitsuba's path; -1 = unlimited -->
         <integer name="rr_depth" value="5"/>
         <boolean name="hide_emitters" value="false"/>
-        <float name="budget_ms" value="0"/>            <!-- frame-time budget; 0 = unlimited -->
+        <float name="budget_ms" value="0"/>            <!-- ray-tracing time per frame; 0 = unlimited -->
+        <string name="selection" value="greedy"/>      <!-- or "graph" (§4.2) or "exact" -->
+        <float name="importance" value="0"/>           <!-- I of eq. 3 -->
     </integrator>
 
 Properties
@@ -20,15 +22,24 @@ Properties
                  the paper's "pure GPU ray tracer" baseline (§8).
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect``. With all
                  four the integrator converges to Mitsuba's ``path``.
-``candidates``   comma list of shape ids whose pixels may be ray traced (§4.1); an empty string
-                 means none (the image is then the raster layer).
+``candidates``   the pre-production candidates of §4.1: comma list of shape ids, each optionally
+                 with the ray kinds it deserves, ``"armadillo:refraction|shadow, floor:reflection"``
+                 (default: every shape, kinds from its material; ``""``: none, the image is then the
+                 raster layer). See ``hybrid_integrator/heuristic.py``.
 ``blend``        the composition weight of §5: traced pixels show ``blend·rt + (1−blend)·raster``.
-``budget_ms``    the frame's time budget for ray tracing. Accepted and validated (negative or NaN
-                 is an error); the relevance/cost heuristic that spends it is a later stage, so
-                 today every candidate is traced whatever the budget.
+``budget_ms``    the frame's ray-tracing time budget in ms (0: unlimited; negative or NaN is an
+                 error). Objects are ranked by relevance (eq. 1-3), selected within the budget by
+                 ``selection`` with costs predicted by a cost model calibrated online, and traced
+                 in relevance order in batches that stop before the budget would overrun
+                 (``hybrid_integrator/budget.py``). The frame is always complete.
+``selection``    ``greedy`` (by relevance per cost, the default: it captured ≥ 99.5 % of the
+                 optimum's relevance on random instances, docs/results), ``graph`` (the paper's
+                 selection graph, §4.2-4.3) or ``exact`` (0/1 knapsack).
+``importance``   I of eq. 3: relevance bonus of objects selected in the previous frame.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
-``blend`` and ``budget_ms`` are exposed to ``mi.traverse``. ``mi.render(scene)`` returns the
+``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the
+last frame and the cost model are carried from one ``render`` call to the next (``self.state``). ``mi.render(scene)`` returns the
 image; the last frame's layers and statistics are in ``integrator.last_result``.
 """
 from __future__ import annotations
@@ -40,6 +51,7 @@ import mitsuba as mi
 
 from hybrid_integrator.environment import require_jit_rgb_variant
 from hybrid_integrator.errors import HybridError
+from hybrid_integrator.budget import FrameState
 from hybrid_integrator.pipeline import HybridResult, HybridSettings
 
 NAME = "hybrid"
@@ -60,14 +72,17 @@ class HybridIntegrator(mi.SamplingIntegrator):
             values[name] = None if name == "candidates" and value is None else value
         self.settings = HybridSettings(**values)
         self.last_result: HybridResult | None = None
-        self._params = {"blend": mi.Float(self.settings.blend), "budget_ms": mi.Float(self.settings.budget_ms)}
+        #: carried from frame to frame: last selection (S of eq. 3) and the calibrated cost model
+        self.state = FrameState()
+        self._params = {name: mi.Float(getattr(self.settings, name)) for name in ("blend", "budget_ms", "importance")}
 
     def render_result(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,
                       aovs=()) -> HybridResult:
         """Render a frame and return image, layers and statistics (``hi.render`` calls this)."""
         from hybrid_integrator.api import renderer
 
-        self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed), aovs=aovs)
+        self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed), aovs=aovs,
+                                                  state=self.state)
         return self.last_result
 
     def render(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,

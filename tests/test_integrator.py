@@ -96,7 +96,7 @@ def test_scene_xml_integrator_through_mi_render():
     assert integrator.last_result.stats.spp == 4 and integrator.last_result.stats.secondary_rays > 0
     # numbers are exposed to mi.traverse and take effect on the next frame
     params = mi.traverse(integrator)
-    assert set(params.keys()) == {"blend", "budget_ms"}
+    assert set(params.keys()) == {"blend", "budget_ms", "importance"}
     params["blend"] = 0.0
     params.update()
     assert integrator.settings.blend == 0.0
@@ -110,7 +110,7 @@ def test_properties_from_a_dict():
                                "budget_ms": 12.5})
     s = integrator.settings
     assert (s.max_depth, s.hide_emitters, s.primary, s.effects, s.candidates, s.blend, s.budget_ms) == \
-        (3, True, "raytrace", ("shadow", "indirect"), ("floor", "block"), 0.7, 12.5)
+        (3, True, "raytrace", ("shadow", "indirect"), "floor, block", 0.7, 12.5)
 
 
 def test_rays_follow_the_candidates():

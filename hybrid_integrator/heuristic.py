@@ -1,0 +1,147 @@
+"""The relevance/cost heuristic of Sabino et al. §4.1 (pre-production candidates) and §4 eq. 1–3
+(per-frame visibility, cost and relevance), computed from the frame's own visibility buffer.
+
+**Candidates** (§4.1). Every object (Mitsuba shape) has a candidate flag and the kinds of secondary
+ray it deserves. Defaults come from its material: every surface deserves ``shadow``; a BSDF with
+delta or glossy reflection lobes (conductors, smooth or glossy coatings) also ``reflection``; a
+BSDF with transmission (dielectrics) ``refraction`` and ``reflection``; a BSDF with diffuse lobes
+``indirect`` (used only when the integrator's ``effects`` include it). The integrator's
+``candidates`` property overrides them per shape id: ``"armadillo:refraction|shadow, floor:reflection"``;
+an id without ``:`` keeps its material's kinds; a listed property makes the unlisted shapes
+non-candidates; ``""`` means none.
+
+**Per frame** (eq. 1–3), for each candidate k seen in the visibility buffer of W×H pixels:
+
+- A_k = n_k / (W·H): the fraction of the image it covers (n_k: its pixels);
+- P_k = max(0, 1 − |c_k − c| / (diagonal/2)): projected centrality of its pixels' centroid c_k
+  (1 at the image centre c, 0 at the corners; 0 when it is not in view);
+- D_k = its mean depth / the mean depth of all visible pixels (dimensionless, 1 = typical);
+- **V_k = A_k · P_k / D_k** (eq. 1), in [0, 1] for an object at typical depth;
+- Q_k = Σ_kind n_k · rays_per_pixel(k, kind): the secondary rays it will cost, with rays per
+  pixel per kind learnt from the rays counted when k was last traced (prior: shadow 1,
+  reflection 1, refraction 2, indirect 1);
+- **C_k = V_k · Q_k** (eq. 2), reported as the paper defines it. The budget is in milliseconds,
+  so the selectors compare it with ``cost_ms``, the time the cost model (``budget.py``) predicts
+  for Q_k rays;
+- **R_k = S_k · I + V_k** (eq. 3), S_k = 1 if k was selected in the previous frame, I the
+  integrator's ``importance``: hysteresis against flicker.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import mitsuba as mi
+import numpy as np
+
+from .errors import HybridError
+
+KINDS = ("shadow", "reflection", "refraction", "indirect")
+PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
+
+
+def material_kinds(bsdf: mi.BSDF | None) -> tuple[str, ...]:
+    """The ray kinds a material deserves by default (§4.1)."""
+    if bsdf is None:
+        return ("shadow",)
+    flags = int(bsdf.flags())
+    F = mi.BSDFFlags
+    kinds = ["shadow"]
+    if flags & (int(F.DeltaReflection) | int(F.GlossyReflection)) or flags & int(F.Transmission):
+        kinds.append("reflection")
+    if flags & int(F.Transmission):
+        kinds.append("refraction")
+    if flags & int(F.Diffuse):
+        kinds.append("indirect")
+    return tuple(kinds)
+
+
+def _kinds(text, shape_id: str) -> tuple[str, ...]:
+    names = [k.strip() for k in (text.split("|") if isinstance(text, str) else text) if k.strip()]
+    unknown = [k for k in names if k not in KINDS]
+    if unknown:
+        raise HybridError(f"unknown ray kind(s) {unknown} for candidate '{shape_id}': choose from {list(KINDS)}")
+    return tuple(k for k in KINDS if k in names)
+
+
+def candidate_kinds(value, scene: mi.Scene) -> list[tuple[str, ...]]:
+    """Ray kinds per ``scene.shapes()`` entry (empty: not a candidate) from the ``candidates``
+    property: ``None`` (every shape, material defaults), a string ``"id[:kind|kind], ..."``, or a
+    mapping ``{id: kinds or None}``."""
+    shapes = scene.shapes()
+    ids = [s.id() for s in shapes]
+    defaults = [material_kinds(s.bsdf()) for s in shapes]
+    if value is None:
+        return defaults
+    if isinstance(value, str):
+        entries = {}
+        for item in (v.strip() for v in value.split(",")):
+            if item:
+                name, _, kinds = item.partition(":")
+                entries[name.strip()] = kinds if kinds else None
+    else:
+        entries = dict(value)
+    unknown = [n for n in entries if n not in ids]
+    if unknown:
+        raise HybridError(f"unknown candidate shape id(s) {unknown}: the scene's shapes are {ids}")
+    return [(_kinds(entries[i], i) if entries[i] is not None else defaults[k]) if i in entries else ()
+            for k, i in enumerate(ids)]
+
+
+@dataclass(frozen=True)
+class ObjectRelevance:
+    """One candidate's terms of eq. 1–3 in one frame."""
+
+    index: int
+    name: str
+    kinds: tuple[str, ...]
+    pixels: int
+    area: float  # A
+    centrality: float  # P
+    distance: float  # D
+    visibility: float  # V, eq. 1
+    rays: dict[str, float]  # Q per kind
+    cost: float  # C = V·Q, eq. 2
+    relevance: float  # R = S·I + V, eq. 3
+
+    @property
+    def total_rays(self) -> float:
+        return sum(self.rays.values())
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tuple[str, ...]], names: list[str],
+                     effects: tuple[str, ...], selected_last: set[int], importance: float,
+                     rays_per_pixel: dict[int, dict[str, float]]) -> list[ObjectRelevance]:
+    """Eq. 1–3 for every candidate visible in a visibility buffer (``shape_index``, ``depth``:
+    H×W, -1 / inf for background). ``kinds`` are intersected with the integrator's ``effects``."""
+    h, w = shape_index.shape
+    hit = shape_index >= 0
+    if not hit.any():
+        return []
+    counts = np.bincount(shape_index[hit], minlength=len(kinds))
+    rows, cols = np.nonzero(hit)
+    index = shape_index[hit]
+    sum_r = np.bincount(index, weights=rows + 0.5, minlength=len(kinds))
+    sum_c = np.bincount(index, weights=cols + 0.5, minlength=len(kinds))
+    sum_d = np.bincount(index, weights=depth[hit].astype(np.float64), minlength=len(kinds))
+    mean_depth = float(depth[hit].mean())
+    half_diagonal = 0.5 * np.hypot(w, h)
+    out = []
+    for k, n in enumerate(counts):
+        active = tuple(kind for kind in kinds[k] if kind in effects)
+        if n == 0 or not active:
+            continue
+        area = n / (w * h)
+        offset = np.hypot(sum_c[k] / n - w / 2, sum_r[k] / n - h / 2)
+        centrality = max(0.0, 1.0 - offset / half_diagonal)
+        distance = max((sum_d[k] / n) / mean_depth, 1e-6)
+        visibility = area * centrality / distance
+        per_pixel = rays_per_pixel.get(k, {})
+        rays = {kind: float(n) * per_pixel.get(kind, PRIOR_RAYS_PER_PIXEL[kind]) for kind in active}
+        relevance = (importance if k in selected_last else 0.0) + visibility
+        out.append(ObjectRelevance(index=k, name=names[k], kinds=active, pixels=int(n), area=area, centrality=centrality,
+                                   distance=distance, visibility=visibility, rays=rays,
+                                   cost=visibility * sum(rays.values()), relevance=relevance))
+    return out
