@@ -1,0 +1,134 @@
+"""The relevance/cost heuristic (eq. 1-3), candidates, the cost model and the budget (issue 4)."""
+from __future__ import annotations
+
+import math
+
+import mitsuba as mi
+import numpy as np
+import pytest
+
+import hybrid_integrator as hi
+from hybrid_integrator.budget import CostModel, plan_frame
+from hybrid_integrator.heuristic import candidate_kinds, object_relevance
+from conftest import DEFAULT_SCENE, load
+
+
+def synthetic_buffer():
+    """8×8 image: object 0 fills the central 2×2 pixels at depth 2, object 1 the top-left 2×4
+    block at depth 4, the rest is background."""
+    shape_index = -np.ones((8, 8), dtype=np.int64)
+    depth = np.full((8, 8), np.inf, dtype=np.float32)
+    shape_index[3:5, 3:5], depth[3:5, 3:5] = 0, 2.0
+    shape_index[0:2, 0:4], depth[0:2, 0:4] = 1, 4.0
+    return shape_index, depth
+
+
+def test_equations_1_to_3_and_their_normalization():
+    shape_index, depth = synthetic_buffer()
+    kinds = [("shadow", "reflection"), ("shadow",)]
+    objects = {o.index: o for o in object_relevance(shape_index, depth, kinds, ["a", "b"], ("shadow", "reflection"),
+                                                     selected_last={1}, importance=0.5, rays_per_pixel={})}
+    a, b = objects[0], objects[1]
+    mean_depth = (4 * 2.0 + 8 * 4.0) / 12
+    # A: fraction of the image
+    assert a.area == pytest.approx(4 / 64) and b.area == pytest.approx(8 / 64)
+    # P: 1 at the centre, falling to 0 at the corners (centroid of b: (2, 1) vs centre (4, 4))
+    assert a.centrality == pytest.approx(1.0)
+    assert b.centrality == pytest.approx(1 - math.hypot(2, 3) / (0.5 * math.hypot(8, 8)))
+    # D: relative to the mean depth of the visible pixels
+    assert a.distance == pytest.approx(2.0 / mean_depth) and b.distance == pytest.approx(4.0 / mean_depth)
+    # eq. 1
+    assert a.visibility == pytest.approx(a.area * a.centrality / a.distance)
+    # Q: pixels × prior rays per pixel per kind (shadow 1, reflection 1)
+    assert a.rays == {"shadow": 4.0, "reflection": 4.0} and b.rays == {"shadow": 8.0}
+    # eq. 2
+    assert a.cost == pytest.approx(a.visibility * 8.0)
+    # eq. 3: S·I + V, b was selected last frame
+    assert a.relevance == pytest.approx(a.visibility) and b.relevance == pytest.approx(0.5 + b.visibility)
+
+
+def test_learnt_rays_and_effects_filter():
+    shape_index, depth = synthetic_buffer()
+    objects = object_relevance(shape_index, depth, [("shadow", "refraction"), ("reflection",)], ["a", "b"],
+                               ("shadow",), set(), 0.0, rays_per_pixel={0: {"shadow": 0.5}})
+    assert [o.index for o in objects] == [0]  # b deserves only reflection, which is off
+    assert objects[0].rays == {"shadow": 2.0}  # 4 pixels × 0.5 learnt
+    assert object_relevance(-np.ones((4, 4), np.int64), np.full((4, 4), np.inf), [("shadow",)], ["a"], ("shadow",),
+                            set(), 0.0, {}) == []
+
+
+def test_candidate_parser():
+    scene = load(DEFAULT_SCENE)
+    ids = [s.id() for s in scene.shapes()]
+    defaults = dict(zip(ids, candidate_kinds(None, scene)))
+    assert defaults["back"] == ("shadow", "indirect")
+    assert defaults["mirror_sphere"] == ("shadow", "reflection")
+    assert defaults["glass_sphere"] == ("shadow", "reflection", "refraction")
+    chosen = dict(zip(ids, candidate_kinds("floor:reflection, glass_sphere:refraction|shadow, block", scene)))
+    assert chosen["floor"] == ("reflection",) and chosen["glass_sphere"] == ("shadow", "refraction")
+    assert chosen["block"] == defaults["block"] and chosen["back"] == ()
+    mapping = dict(zip(ids, candidate_kinds({"floor": ["shadow"], "mirror_sphere": None}, scene)))
+    assert mapping["floor"] == ("shadow",) and mapping["mirror_sphere"] == defaults["mirror_sphere"]
+    assert all(k == () for k in candidate_kinds("", scene))
+    with pytest.raises(hi.HybridError, match=r"unknown candidate shape id\(s\) \['teapot'\]"):
+        candidate_kinds("teapot:shadow", scene)
+    with pytest.raises(hi.HybridError, match=r"unknown ray kind\(s\) \['glow'\] for candidate 'floor'"):
+        candidate_kinds("floor:glow", scene)
+
+
+def test_cost_model_learns_per_kind_rates():
+    model = CostModel()
+    rng = np.random.default_rng(1)
+    truth = {"shadow": 1e-3, "refraction": 4e-3}
+    for _ in range(30):
+        rays = {"shadow": float(rng.uniform(1e3, 1e4)), "refraction": float(rng.uniform(0, 5e3))}
+        model.observe(rays, 2.0 + sum(truth[k] * v for k, v in rays.items()))
+    for rays in ({"shadow": 5e3}, {"refraction": 3e3}, {"shadow": 2e3, "refraction": 2e3}):
+        expected = 2.0 + sum(truth[k] * v for k, v in rays.items())
+        assert model.predict(rays) == pytest.approx(expected, rel=0.05)
+
+
+def test_plan_fits_the_budget():
+    shape_index, depth = synthetic_buffer()
+    objects = object_relevance(shape_index, depth, [("shadow",), ("shadow",)], ["a", "b"], ("shadow",), set(), 0.0, {})
+    model = CostModel(rates=dict.fromkeys(("shadow", "reflection", "refraction", "indirect"), 1.0), launch_ms=0.5)
+    unlimited = plan_frame(objects, 2, "greedy", 0.0, 1, model)
+    assert unlimited.traced == {0, 1} and len(unlimited.batches) == 1
+    tight = plan_frame(objects, 2, "greedy", 6.0, 1, model)  # room for a (4 ms) but not both (12 ms)
+    assert tight.traced == {0}
+    assert sum(model.predict(b.rays) for b in tight.batches) <= 6.0
+    assert plan_frame(objects, 2, "exact", 0.1, 1, model).traced == set()
+
+
+def test_budget_in_a_render():
+    scene = load(DEFAULT_SCENE)
+    everything = hi.render(scene, spp=1, seed=5)
+    starved = hi.render(scene, spp=1, seed=5, budget_ms=1e-3)
+    assert starved.stats.secondary_rays == 0 and starved.stats.selected == ()
+    assert np.allclose(np.array(starved.image), starved.layers["raster"], rtol=1e-5, atol=1e-6)
+    generous = hi.render(scene, spp=1, seed=5, budget_ms=1e6)
+    assert set(generous.stats.selected) == set(everything.stats.selected)
+    assert generous.stats.secondary_rays == everything.stats.secondary_rays
+    assert generous.stats.budget_met and generous.stats.relevance_captured == pytest.approx(1.0)
+
+
+def test_render_sequence_carries_selection_and_restores_the_camera():
+    scene = load(DEFAULT_SCENE)
+    params = mi.traverse(scene.sensors()[0])
+    before = np.array(params["to_world"].matrix).copy()
+    cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.4), (0.1, -0.2, 0))], 4)
+    frames = hi.render_sequence(scene, cameras, spp=1, budget_ms=1e6, importance=0.1)
+    assert len(frames) == 4
+    assert frames[0].stats.selection_changes == len(frames[0].stats.selected)  # all new
+    assert all(f.stats.selection_changes == 0 for f in frames[1:])  # unlimited budget: stable
+    assert not np.allclose(np.array(frames[0].image), np.array(frames[-1].image))  # the camera moved
+    assert np.allclose(np.array(params["to_world"].matrix), before)
+    with pytest.raises(hi.HybridError, match="at least two key frames"):
+        hi.camera_path([((0, 0, 1), (0, 0, 0))], 3)
+
+
+@pytest.mark.parametrize("props, message", [({"selection": "best"}, "selection='best' is not one of"),
+                                            ({"importance": -1.0}, "importance=-1.0 must be")])
+def test_bad_heuristic_properties(props, message):
+    with pytest.raises(Exception, match=message):
+        mi.load_dict({"type": "hybrid", **props})
