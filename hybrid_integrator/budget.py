@@ -1,12 +1,15 @@
 """The frame-time budget: predicting what tracing costs, and cutting the work to fit (paper §4).
 
 **Cost model.** The time to trace a batch of pixels is modelled as
-``t = t0 + Σ_kind rate_kind · rays_kind``: a fixed launch cost plus a throughput per ray kind
-(shadow, reflection, refraction, indirect). It is calibrated online: every traced batch adds
-(rays counted per kind, milliseconds measured with the backend synchronized) to a window of
+``t = margin · (t0 + Σ_kind rate_kind · rays_kind)``: a fixed launch cost plus a throughput per
+ray kind (shadow, reflection, refraction, indirect). It is calibrated online: every traced batch
+adds (rays counted per kind, milliseconds measured with the backend synchronized) to a window of
 recent observations, the rates are refitted by non-negative least squares
 (``scipy.optimize.nnls``) and blended with the previous fit (``smoothing``), so they follow the
-machine and the scene across frames without jumping on one noisy batch.
+machine and the scene across frames without jumping on one noisy batch. Rays do not explain all
+of a batch's time (path lengths vary, a kernel is compiled the first time a set of effects
+occurs), so the ``margin`` is the 90th percentile of measured/fitted time over the window: the
+prediction is one that 90 % of recent batches stayed under.
 
 **Batches.** The selected objects are traced in relevance order, grouped into batches of objects
 that share their ray kinds; before each batch the predicted time is checked against the time left,
@@ -33,10 +36,33 @@ class CostModel:
     launch_ms: float = 1.0
     window: int = 48
     smoothing: float = 0.5
+    margin: float = 1.0
     history: deque = field(default_factory=deque)
 
-    def predict(self, rays: dict[str, float]) -> float:
+    @property
+    def calibrated(self) -> bool:
+        return len(self.history) >= 2
+
+    def relax(self, factor: float = 0.8) -> None:
+        """Lower every prediction a little: after a frame that traced nothing, so that a model made
+        pessimistic by one slow batch (a kernel compiled on first use) tries again."""
+        self.rates = {k: v * factor for k, v in self.rates.items()}
+        self.launch_ms *= factor
+
+    def _fitted(self, rays: dict[str, float]) -> float:
         return self.launch_ms + sum(self.rates[k] * v for k, v in rays.items())
+
+    def predict(self, rays: dict[str, float]) -> float:
+        """Predicted milliseconds of one batch tracing ``rays``."""
+        return self.margin * self._fitted(rays)
+
+    def extra(self, rays: dict[str, float]) -> float:
+        """Predicted milliseconds ``rays`` add to a batch (without its launch cost)."""
+        return self.predict(rays) - self.launch()
+
+    def launch(self) -> float:
+        """Predicted fixed cost of one batch."""
+        return self.margin * self.launch_ms
 
     def observe(self, rays: dict[str, float], measured_ms: float) -> None:
         self.history.append(([float(rays.get(k, 0.0)) for k in KINDS], float(measured_ms)))
@@ -46,7 +72,7 @@ class CostModel:
         b = np.array([t for _, t in self.history])
         seen = a[:, :-1].sum(axis=0) > 0
         if len(self.history) < 2:  # one observation: scale the prior to it
-            predicted = self.predict(rays)
+            predicted = self._fitted(rays)
             scale = measured_ms / predicted if predicted > 0 else 1.0
             self.rates = {k: v * scale for k, v in self.rates.items()}
             self.launch_ms *= scale
@@ -59,6 +85,8 @@ class CostModel:
         s = self.smoothing
         self.rates = {k: s * self.rates[k] + (1 - s) * fitted[k] for k in KINDS}
         self.launch_ms = s * self.launch_ms + (1 - s) * solution[-1]
+        fitted_ms = np.array([self._fitted(dict(zip(KINDS, row))) for row, _ in self.history])
+        self.margin = float(np.clip(np.quantile(b / np.maximum(fitted_ms, 1e-9), 0.9), 1.0, 4.0))
 
 
 @dataclass
@@ -113,7 +141,8 @@ def _batch(objects: list[ObjectRelevance], n_shapes: int) -> Batch:
     for o in objects:
         for kind, v in o.rays.items():
             rays[kind] = rays.get(kind, 0.0) + v
-    return Batch(objects=[o.index for o in objects], effects=objects[0].kinds, mask=mask, rays=rays,
+    effects = tuple(k for k in KINDS if any(k in o.kinds for o in objects))
+    return Batch(objects=[o.index for o in objects], effects=effects, mask=mask, rays=rays,
                  pixels={o.index: o.pixels for o in objects})
 
 
@@ -121,28 +150,38 @@ def plan_frame(objects: list[ObjectRelevance], n_shapes: int, method: str, budge
                model: CostModel, pointers: int = 4) -> FramePlan:
     """Select the objects to trace (``selection_graph.select``) and group them into batches.
 
-    Unlimited budget: every visible candidate, one batch per set of effects. With a budget: the
-    selector picks within the per-pass budget (minus the launch cost of the expected batches),
-    and the picked objects are grouped, in relevance order, into batches of at most a quarter of
-    the budget each, so that the cut before an overrunning batch can act."""
+    Unlimited budget: every visible candidate. With a budget: the selector picks within the
+    per-pass budget less the launch cost of the batches, except while the cost model is not yet
+    calibrated, when only the most relevant object is traced (a probe that measures the machine).
+    The picked objects are grouped, in relevance order, into as few batches as their ray kinds allow
+    (each ``trace_effects`` call has a launch cost), and a group is split where it would exceed
+    half the budget, so that the cut before an overrunning batch can act."""
     order = sorted(objects, key=lambda o: -o.relevance)
     if budget_ms <= 0:
-        groups: dict[tuple[str, ...], list[ObjectRelevance]] = {}
-        for o in order:
-            groups.setdefault(o.kinds, []).append(o)
-        return FramePlan(order, [_batch(g, n_shapes) for g in groups.values()], float("inf"))
+        return FramePlan(order, _groups(order, n_shapes, float("inf"), model), float("inf"))
     pass_budget = budget_ms / max(spp, 1)
-    nodes = [Node(o.index, model.predict(o.rays) - model.launch_ms, o.relevance) for o in order]
-    room = max(pass_budget - model.launch_ms * min(4, len(nodes)), 0.0)
+    if not model.calibrated:
+        return FramePlan(order, _groups(order[:1], n_shapes, float("inf"), model), pass_budget)
+    groups = len({o.batch_key for o in order})
+    nodes = [Node(o.index, model.extra(o.rays), o.relevance) for o in order]
+    room = max(pass_budget - model.launch() * groups, 0.0)
     picked = {n.key for n in select(method, nodes, room, pointers)}
-    batches, current, current_ms = [], [], 0.0
-    for o in (o for o in order if o.index in picked):
-        cost = model.predict(o.rays) - model.launch_ms
-        if current and (o.kinds != current[0].kinds or current_ms + cost > pass_budget / 4):
-            batches.append(_batch(current, n_shapes))
-            current, current_ms = [], 0.0
-        current.append(o)
-        current_ms += cost
-    if current:
-        batches.append(_batch(current, n_shapes))
-    return FramePlan(order, batches, pass_budget)
+    return FramePlan(order, _groups([o for o in order if o.index in picked], n_shapes, pass_budget / 2, model), pass_budget)
+
+
+def _groups(order: list[ObjectRelevance], n_shapes: int, cap_ms: float, model: CostModel) -> list[Batch]:
+    """Batches of objects that can share a trace call (``ObjectRelevance.batch_key``), in order of
+    their most relevant object, each at most ``cap_ms`` of predicted tracing (beyond the launch
+    cost). A shared batch traces the union of its objects' kinds, which for each object adds only
+    kinds its material has no lobe for."""
+    batches: list[list[ObjectRelevance]] = []
+    open_batch: dict[tuple[str, ...], tuple[list[ObjectRelevance], float]] = {}
+    for o in order:
+        cost = model.extra(o.rays)
+        members, total = open_batch.get(o.batch_key, (None, 0.0))
+        if members is None or total + cost > cap_ms:
+            members, total = [], 0.0
+            batches.append(members)
+        members.append(o)
+        open_batch[o.batch_key] = (members, total + cost)
+    return [_batch(members, n_shapes) for members in batches]

@@ -102,6 +102,10 @@ class ObjectRelevance:
     rays: dict[str, float]  # Q per kind
     cost: float  # C = V·Q, eq. 2
     relevance: float  # R = S·I + V, eq. 3
+    #: objects that deserve every kind their material has can share one trace call (their BSDF has
+    #: no lobe for the kinds of the others); the others (``candidates`` narrowed their kinds) are
+    #: traced with their own kinds: () for the former, their kinds for the latter
+    batch_key: tuple[str, ...] = ()
 
     @property
     def total_rays(self) -> float:
@@ -113,9 +117,13 @@ class ObjectRelevance:
 
 def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tuple[str, ...]], names: list[str],
                      effects: tuple[str, ...], selected_last: set[int], importance: float,
-                     rays_per_pixel: dict[int, dict[str, float]]) -> list[ObjectRelevance]:
+                     rays_per_pixel: dict[int, dict[str, float]],
+                     material: list[tuple[str, ...]] | None = None) -> list[ObjectRelevance]:
     """Eq. 1–3 for every candidate visible in a visibility buffer (``shape_index``, ``depth``:
-    H×W, -1 / inf for background). ``kinds`` are intersected with the integrator's ``effects``."""
+    H×W, -1 / inf for background). ``kinds`` are intersected with the integrator's ``effects``;
+    ``material`` (the kinds each material has, default ``kinds``) decides which objects may share
+    a trace call."""
+    material = material if material is not None else kinds
     h, w = shape_index.shape
     hit = shape_index >= 0
     if not hit.any():
@@ -141,7 +149,9 @@ def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tup
         per_pixel = rays_per_pixel.get(k, {})
         rays = {kind: float(n) * per_pixel.get(kind, PRIOR_RAYS_PER_PIXEL[kind]) for kind in active}
         relevance = (importance if k in selected_last else 0.0) + visibility
+        complete = active == tuple(kind for kind in material[k] if kind in effects)
         out.append(ObjectRelevance(index=k, name=names[k], kinds=active, pixels=int(n), area=area, centrality=centrality,
                                    distance=distance, visibility=visibility, rays=rays,
-                                   cost=visibility * sum(rays.values()), relevance=relevance))
+                                   cost=visibility * sum(rays.values()), relevance=relevance,
+                                   batch_key=() if complete else active))
     return out

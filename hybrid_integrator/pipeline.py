@@ -51,6 +51,7 @@ class HybridSettings:
     budget_ms: float = 0.0
     selection: str = "greedy"
     importance: float = 0.0
+    freeze: bool = False
 
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
@@ -143,6 +144,7 @@ class HybridRenderer:
         self.scene = scene
         self.raster = rasterizer
         self.lighting = DeferredLighting(scene)
+        self.material_kinds = candidate_kinds(None, scene)
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
                aovs=(), state: FrameState | None = None) -> HybridResult:
@@ -217,7 +219,8 @@ class HybridRenderer:
                 batch_start = time.perf_counter()
                 batch_rt, batch_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
                                                        settings.max_depth, settings.rr_depth, settings.hide_emitters,
-                                                       seed=(int(seed) << 32) + sample, first_effects=batch.effects)
+                                                       seed=(int(seed) << 32) + sample, first_effects=batch.effects,
+                                                       freeze=settings.freeze)
                 batch_ms = (time.perf_counter() - batch_start) * 1e3  # trace_effects returns evaluated
                 state.cost_model.observe(batch_counts.rays, batch_ms)
                 total_pixels = max(sum(batch.pixels.values()), 1)
@@ -259,7 +262,7 @@ class HybridRenderer:
         shape_index = np.where(np.array(hits.valid), np.array(hits.shape_index, dtype=np.int64), -1).reshape(h, w)
         depth = np.array(dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))).reshape(h, w)
         objects = object_relevance(shape_index, depth, kinds, names, settings.effects, state.selected,
-                                   settings.importance, state.rays_per_pixel)
+                                   settings.importance, state.rays_per_pixel, self.material_kinds)
         return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model)
 
     @staticmethod
@@ -273,3 +276,5 @@ class HybridRenderer:
         stats.selection_changes = len(traced ^ state.selected)
         stats.batches = len(plan.batches)
         state.selected = traced
+        if plan.objects and not traced and plan.pass_budget_ms < float("inf"):
+            state.cost_model.relax()

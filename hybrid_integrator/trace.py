@@ -12,9 +12,10 @@ the paths are those of Mitsuba's ``path`` integrator, restricted to the enabled 
   are followed are MIS-weighted against emitter sampling, lobes that are not are left entirely to
   emitter sampling. With all four effects every lobe is followed and the estimator is ``path``'s.
 
-Every bounce is its own wavefront: the live paths are compacted (``dr.compress``) before each
-intersection, so the cost follows the number of rays actually traced, and the rays are counted
-by kind. Random numbers come from a PCG32 stream per pixel and pass (seeded by the pixel's index),
+Only the selected pixels are traced: they are compacted (``dr.compress``) before the path loop,
+so the cost follows the selection, and the rays are counted by kind. The loop is one symbolic
+Dr.Jit loop; with ``freeze`` it is frozen with ``dr.freeze`` so that later frames replay its
+kernels. Random numbers come from a PCG32 stream per pixel and pass (seeded by the pixel's index),
 so a pixel's paths do not depend on which other pixels are traced, nor on where its primary hit
 came from.
 """
@@ -74,11 +75,13 @@ class Lobes:
 
 def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, traced: mi.Bool,
                   effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool,
-                  seed: int, first_effects: tuple[str, ...] | None = None) -> tuple[mi.Color3f, TraceCounts]:
+                  seed: int, first_effects: tuple[str, ...] | None = None,
+                  freeze: bool = False) -> tuple[mi.Color3f, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` distinguishes passes. ``first_effects`` (default
     ``effects``) are the rays spawned at the primary hit, the kinds its object deserves (§4.1);
-    deeper vertices use ``effects``."""
+    deeper vertices use ``effects``. ``freeze`` replays the path loop's recorded kernels
+    (:func:`_run_paths`)."""
     radiance = dr.zeros(mi.Color3f, dr.width(traced))
     pixel = dr.compress(traced)  # only the selected pixels are traced: cost follows the selection
     if dr.width(pixel) == 0:
@@ -89,12 +92,46 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     # offset; the pass seed is opaque so that the kernel is not recompiled every pass
     rng = mi.PCG32(dr.width(pixel))
     rng.seed(dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))
-    first = Lobes.of(first_effects if first_effects is not None else effects)
-    L, rays = _paths(scene, ray, si, rng, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
+    first, rest = Lobes.of(first_effects if first_effects is not None else effects), Lobes.of(effects)
+    if freeze:
+        L, rays = _run_paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+    else:
+        L, rays = _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
     dr.scatter(radiance, L, pixel)
     totals = [dr.sum(r) for r in rays]
     dr.eval(radiance, *totals)
     return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))))
+
+
+#: the path loop, frozen (``dr.freeze``) once per configuration of its static arguments
+_FROZEN: dict[tuple, object] = {}
+
+
+def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, first: Lobes,
+               rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
+    """``_paths`` with its static arguments bound, as a frozen function: the first call records its
+    kernel launches, later calls replay them (any number of pixels), skipping the Python tracing
+    and code generation that otherwise cost ~100 ms per call on a scene of a few hundred shapes
+    (the shape and BSDF virtual calls make the kernel large). Where Dr.Jit cannot record it (it
+    refuses virtual calls on objects it cannot reach from the inputs), the loop runs unfrozen:
+    the same result, only slower.
+
+    Opt-in (the integrator's ``freeze`` property): a replay dispatches virtual calls through the
+    object registry as it was when recorded. With one scene per process (a renderer, a benchmark)
+    results equal the unfrozen loop's; in a process that creates and destroys other Mitsuba
+    objects between frames (a test session) they were seen to differ in a few dozen of 10⁵ rays."""
+    key = (id(scene), first.shadow, first.follow, rest.shadow, rest.follow, max_depth, rr_depth, hide_emitters)
+    frozen = _FROZEN.get(key)
+    if frozen is None and key not in _FROZEN:
+        def paths(scene, ray, si, rng):
+            return _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+        frozen = _FROZEN[key] = dr.freeze(paths)
+    if frozen is not None:
+        try:
+            return frozen(scene, ray, si, rng)
+        except RuntimeError:
+            _FROZEN[key] = None  # not recordable: run unfrozen from now on
+    return _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
 
 
 @dataclass

@@ -13,6 +13,7 @@
         <float name="budget_ms" value="0"/>            <!-- ray-tracing time per frame; 0 = unlimited -->
         <string name="selection" value="greedy"/>      <!-- or "graph" (§4.2) or "exact" -->
         <float name="importance" value="0"/>           <!-- I of eq. 3 -->
+        <boolean name="freeze" value="false"/>         <!-- replay recorded kernels (dr.freeze) -->
     </integrator>
 
 Properties
@@ -36,6 +37,9 @@ Properties
                  optimum's relevance on random instances, docs/results), ``graph`` (the paper's
                  selection graph, §4.2-4.3) or ``exact`` (0/1 knapsack).
 ``importance``   I of eq. 3: relevance bonus of objects selected in the previous frame.
+``freeze``       replay the path loop's recorded kernels across frames (``dr.freeze``): ~10× less
+                 launch overhead on scenes of hundreds of shapes. Opt-in: meant for one scene per
+                 process (see ``hybrid_integrator/trace.py``).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the

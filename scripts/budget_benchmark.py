@@ -12,7 +12,8 @@
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
 
-Each frame is one sample per pixel, as in a real-time setting. Writes OUT.json, OUT.md, OUT.png.
+Each frame is one sample per pixel, as in a real-time setting, with ``freeze=True`` (one scene in
+the process). Writes OUT.json, OUT.md, OUT.png.
 """
 from __future__ import annotations
 
@@ -28,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(hi, scene, cameras, **props) -> list[dict]:
-    frames = hi.render_sequence(scene, cameras, spp=1, **props)
+    frames = hi.render_sequence(scene, cameras, spp=1, freeze=True, **props)
     return [{"frame": i, "trace_ms": f.stats.times_ms["trace"], "total_ms": f.stats.times_ms["total"],
              "predicted_ms": f.stats.predicted_trace_ms, "pixels_traced": f.stats.pixels_traced,
              "selected": len(f.stats.selected), "visible": f.stats.candidates_visible,
@@ -65,7 +66,7 @@ def main() -> None:
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
     keyframes = json.loads(args.scene.with_name(args.scene.stem + "_path.json").read_text())["keyframes"]
     cameras = hi.camera_path(keyframes, args.frames)
-    hi.render_sequence(scene, cameras[:2], spp=1)  # warm-up: kernels, geometry upload
+    run(hi, scene, cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
 
     runs = {"all candidates": run(hi, scene, cameras)}
     all_ms = statistics.median(f["trace_ms"] for f in runs["all candidates"])

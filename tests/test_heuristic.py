@@ -92,6 +92,9 @@ def test_plan_fits_the_budget():
     shape_index, depth = synthetic_buffer()
     objects = object_relevance(shape_index, depth, [("shadow",), ("shadow",)], ["a", "b"], ("shadow",), set(), 0.0, {})
     model = CostModel(rates=dict.fromkeys(("shadow", "reflection", "refraction", "indirect"), 1.0), launch_ms=0.5)
+    probe = plan_frame(objects, 2, "greedy", 100.0, 1, model)  # not calibrated yet: the most relevant only
+    assert probe.traced == {max(objects, key=lambda o: o.relevance).index}
+    model.history.extend([([0.0] * 4, 0.5)] * 2)  # as if two batches had been measured
     unlimited = plan_frame(objects, 2, "greedy", 0.0, 1, model)
     assert unlimited.traced == {0, 1} and len(unlimited.batches) == 1
     tight = plan_frame(objects, 2, "greedy", 6.0, 1, model)  # room for a (4 ms) but not both (12 ms)
@@ -106,9 +109,12 @@ def test_budget_in_a_render():
     starved = hi.render(scene, spp=1, seed=5, budget_ms=1e-3)
     assert starved.stats.secondary_rays == 0 and starved.stats.selected == ()
     assert np.allclose(np.array(starved.image), starved.layers["raster"], rtol=1e-5, atol=1e-6)
-    generous = hi.render(scene, spp=1, seed=5, budget_ms=1e6)
+    # the first frame probes the machine with the most relevant object, then the model is calibrated
+    camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    frames = hi.render_sequence(scene, [camera] * 3, spp=1, seed=5, budget_ms=1e6)
+    assert len(frames[0].stats.selected) == 1
+    generous = frames[-1]
     assert set(generous.stats.selected) == set(everything.stats.selected)
-    assert generous.stats.secondary_rays == everything.stats.secondary_rays
     assert generous.stats.budget_met and generous.stats.relevance_captured == pytest.approx(1.0)
 
 
@@ -117,7 +123,7 @@ def test_render_sequence_carries_selection_and_restores_the_camera():
     params = mi.traverse(scene.sensors()[0])
     before = np.array(params["to_world"].matrix).copy()
     cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.4), (0.1, -0.2, 0))], 4)
-    frames = hi.render_sequence(scene, cameras, spp=1, budget_ms=1e6, importance=0.1)
+    frames = hi.render_sequence(scene, cameras, spp=1, importance=0.1)
     assert len(frames) == 4
     assert frames[0].stats.selection_changes == len(frames[0].stats.selected)  # all new
     assert all(f.stats.selection_changes == 0 for f in frames[1:])  # unlimited budget: stable
@@ -132,3 +138,19 @@ def test_render_sequence_carries_selection_and_restores_the_camera():
 def test_bad_heuristic_properties(props, message):
     with pytest.raises(Exception, match=message):
         mi.load_dict({"type": "hybrid", **props})
+
+
+def test_objects_share_a_trace_call_unless_their_kinds_are_narrowed():
+    """Material-default kinds: one batch (each BSDF only has lobes for its own kinds); an object
+    whose kinds the candidates property narrowed gets its own call, with only its kinds."""
+    scene = load(DEFAULT_SCENE)
+    frame = hi.render(scene, spp=1)
+    assert frame.stats.batches == 1
+    narrowed = hi.render(scene, spp=1, candidates="back:reflection, floor, glass_sphere:refraction")
+    assert narrowed.stats.batches == 3  # floor (shared), back (reflection only), glass (refraction only)
+    # the back wall deserves only reflection, which a diffuse wall has no lobe for: never traced
+    assert narrowed.stats.rays["shadow"] < frame.stats.rays["shadow"] and narrowed.stats.rays["refraction"] > 0
+    gb = hi.rasterize(scene)
+    back = gb.shape_index == gb.shape_ids.index("back")
+    from scipy.ndimage import binary_erosion
+    assert np.all(narrowed.layers["traced"][binary_erosion(back, iterations=3)] < 1e-3)
