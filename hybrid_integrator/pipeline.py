@@ -214,20 +214,23 @@ class HybridRenderer:
                 if sample == 0 and elapsed + predicted > plan.pass_budget_ms:
                     plan.cut(i)  # would overrun: this and the less relevant batches show the raster layer
                     break
+                batch_start = time.perf_counter()  # the whole batch: selecting its pixels, tracing, accumulating
                 selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid, batch.mask, batch.effects,
                                           has_emitters)
-                batch_start = time.perf_counter()
                 batch_rt, batch_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
                                                        settings.max_depth, settings.rr_depth, settings.hide_emitters,
                                                        seed=(int(seed) << 32) + sample, first_effects=batch.effects,
                                                        freeze=settings.freeze)
-                batch_ms = (time.perf_counter() - batch_start) * 1e3  # trace_effects returns evaluated
-                state.cost_model.observe(batch_counts.rays, batch_ms)
+                rt += batch_rt
+                traced |= selection.traced
+                dr.eval(rt, traced)
+                dr.sync_thread()
+                batch_ms = (time.perf_counter() - batch_start) * 1e3
+                if not batch_counts.recorded:  # a recording's time is a one-off, not the tracing cost
+                    state.cost_model.observe(batch_counts.rays, batch_ms)
                 total_pixels = max(sum(batch.pixels.values()), 1)
                 for k, n in batch.pixels.items():
                     state.learn_rays(k, n, {kind: v * n / total_pixels for kind, v in batch_counts.rays.items()})
-                rt += batch_rt
-                traced |= selection.traced
                 counts.add(batch_counts)
                 stats.pixels_traced += selection.count
                 stats.predicted_trace_ms += float(predicted)

@@ -36,6 +36,8 @@ class TraceCounts:
     """Secondary rays traced, by kind."""
 
     rays: dict[str, int] = field(default_factory=lambda: dict.fromkeys(RAY_KINDS, 0))
+    #: the call recorded a frozen function (its time is a one-off, not the tracing cost)
+    recorded: bool = False
 
     def add(self, other: "TraceCounts") -> None:
         for k, v in other.rays.items():
@@ -93,14 +95,15 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     rng = mi.PCG32(dr.width(pixel))
     rng.seed(dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))
     first, rest = Lobes.of(first_effects if first_effects is not None else effects), Lobes.of(effects)
+    recorded = False
     if freeze:
-        L, rays = _run_paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+        L, rays, recorded = _run_paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
     else:
         L, rays = _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
     dr.scatter(radiance, L, pixel)
     totals = [dr.sum(r) for r in rays]
     dr.eval(radiance, *totals)
-    return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))))
+    return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))), recorded=recorded)
 
 
 #: the path loop, frozen (``dr.freeze``) once per configuration of its static arguments
@@ -109,7 +112,7 @@ _FROZEN: dict[tuple, object] = {}
 
 def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, first: Lobes,
                rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
-    """``_paths`` with its static arguments bound, as a frozen function: the first call records its
+    """(radiance, rays, whether this call recorded). ``_paths`` with its static arguments bound, as a frozen function: the first call records its
     kernel launches, later calls replay them (any number of pixels), skipping the Python tracing
     and code generation that otherwise cost ~100 ms per call on a scene of a few hundred shapes
     (the shape and BSDF virtual calls make the kernel large). Where Dr.Jit cannot record it (it
@@ -127,11 +130,13 @@ def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng:
             return _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
         frozen = _FROZEN[key] = dr.freeze(paths)
     if frozen is not None:
+        before = frozen.n_recordings
         try:
-            return frozen(scene, ray, si, rng)
+            L, rays = frozen(scene, ray, si, rng)
+            return L, rays, frozen.n_recordings != before
         except RuntimeError:
             _FROZEN[key] = None  # not recordable: run unfrozen from now on
-    return _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+    return (*_paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters), False)
 
 
 @dataclass
