@@ -97,6 +97,11 @@ class FrameState:
     selected: set[int] = field(default_factory=set)
     cost_model: CostModel = field(default_factory=CostModel)
     rays_per_pixel: dict[int, dict[str, float]] = field(default_factory=dict)
+    #: time of the ray-tracing stage outside its batches (set-up, accumulation), smoothed
+    overhead_ms: float = 0.0
+
+    def learn_overhead(self, stage_ms: float, batches_ms: float, smoothing: float = 0.5) -> None:
+        self.overhead_ms = smoothing * self.overhead_ms + (1 - smoothing) * max(stage_ms - batches_ms, 0.0)
 
     def learn_rays(self, index: int, pixels: int, rays: dict[str, int], smoothing: float = 0.5) -> None:
         if pixels <= 0:
@@ -147,11 +152,11 @@ def _batch(objects: list[ObjectRelevance], n_shapes: int) -> Batch:
 
 
 def plan_frame(objects: list[ObjectRelevance], n_shapes: int, method: str, budget_ms: float, spp: int,
-               model: CostModel, pointers: int = 4) -> FramePlan:
+               model: CostModel, pointers: int = 4, overhead_ms: float = 0.0) -> FramePlan:
     """Select the objects to trace (``selection_graph.select``) and group them into batches.
 
     Unlimited budget: every visible candidate. With a budget: the selector picks within the
-    per-pass budget less the launch cost of the batches, except while the cost model is not yet
+    per-pass budget less the stage's own overhead and the launch cost of the batches, except while the cost model is not yet
     calibrated, when only the most relevant object is traced (a probe that measures the machine).
     The picked objects are grouped, in relevance order, into as few batches as their ray kinds allow
     (each ``trace_effects`` call has a launch cost), and a group is split where it would exceed
@@ -159,7 +164,7 @@ def plan_frame(objects: list[ObjectRelevance], n_shapes: int, method: str, budge
     order = sorted(objects, key=lambda o: -o.relevance)
     if budget_ms <= 0:
         return FramePlan(order, _groups(order, n_shapes, float("inf"), model), float("inf"))
-    pass_budget = budget_ms / max(spp, 1)
+    pass_budget = budget_ms / max(spp, 1) - overhead_ms  # what the batches themselves may take
     if not model.calibrated:
         return FramePlan(order, _groups(order[:1], n_shapes, float("inf"), model), pass_budget)
     groups = len({o.batch_key for o in order})

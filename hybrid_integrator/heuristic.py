@@ -28,7 +28,7 @@ non-candidates; ``""`` means none.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import mitsuba as mi
 import numpy as np
@@ -106,13 +106,6 @@ class ObjectRelevance:
     #: no lobe for the kinds of the others); the others (``candidates`` narrowed their kinds) are
     #: traced with their own kinds: () for the former, their kinds for the latter
     batch_key: tuple[str, ...] = ()
-
-    @property
-    def total_rays(self) -> float:
-        return sum(self.rays.values())
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
 
 def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tuple[str, ...]], names: list[str],

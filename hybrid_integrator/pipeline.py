@@ -207,10 +207,12 @@ class HybridRenderer:
             clock.lap("select")
 
             # 4. ray tracing (§3.2): batch by batch, most relevant first, within the budget
+            stage_start = time.perf_counter()
             rt, traced = dr.zeros(mi.Color3f, w * h), dr.zeros(mi.Bool, w * h)
-            elapsed = 0.0
+            batches_ms = 0.0
             for i, batch in enumerate(list(plan.batches)):
                 predicted = state.cost_model.predict(batch.rays)
+                elapsed = (time.perf_counter() - stage_start) * 1e3
                 if sample == 0 and elapsed + predicted > plan.pass_budget_ms:
                     plan.cut(i)  # would overrun: this and the less relevant batches show the raster layer
                     break
@@ -234,8 +236,9 @@ class HybridRenderer:
                 counts.add(batch_counts)
                 stats.pixels_traced += selection.count
                 stats.predicted_trace_ms += float(predicted)
-                elapsed += batch_ms
+                batches_ms += batch_ms
             clock.lap("trace", rt, traced)
+            state.learn_overhead((time.perf_counter() - stage_start) * 1e3, batches_ms)
 
             # 5. composition (§5), splatted like a camera ray through the same film position
             color = compose(raster, rt, traced, settings.blend)
@@ -266,7 +269,8 @@ class HybridRenderer:
         depth = np.array(dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))).reshape(h, w)
         objects = object_relevance(shape_index, depth, kinds, names, settings.effects, state.selected,
                                    settings.importance, state.rays_per_pixel, self.material_kinds)
-        return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model)
+        return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model,
+                          overhead_ms=state.overhead_ms)
 
     @staticmethod
     def _record_selection(plan: FramePlan, state: FrameState, stats: FrameStats, names) -> None:

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import drjit as dr
 import mitsuba as mi
 
-from .selection import count, lobes as followed_lobes
+from .selection import lobes as followed_lobes
 
 RAY_KINDS = ("shadow", "reflection", "refraction", "indirect")
 

@@ -6,7 +6,6 @@ import json
 import drjit as dr
 import mitsuba as mi
 import numpy as np
-import pytest
 
 import hybrid_integrator as hi
 from hybrid_integrator.cli import main as cli
