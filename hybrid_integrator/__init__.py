@@ -13,7 +13,8 @@ from .environment import pin_llvm
 
 pin_llvm()  # before Dr.Jit's LLVM backend starts: see environment.py
 
-from .api import camera_path, forget, rasterize, rasterizer, render, render_sequence  # noqa: E402
+from .api import camera_path, rasterize, rasterizer, render, render_sequence  # noqa: E402
+from .cache import forget  # noqa: E402
 from .errors import (HybridError, RasterContextError, UnsupportedSceneError,  # noqa: E402
                      UnsupportedVariantError)
 from .raster.gbuffer import AOV_CHANNELS, GBuffer  # noqa: E402

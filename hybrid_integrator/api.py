@@ -1,12 +1,10 @@
 """The package's Python API: rasterize a G-buffer, render a hybrid frame."""
 from __future__ import annotations
 
-from collections import OrderedDict
-from typing import Callable
-
 import mitsuba as mi
 import numpy as np
 
+from .cache import scene_state
 from .environment import require_jit_rgb_variant
 from .errors import HybridError
 from .primary import primary_hits
@@ -14,43 +12,19 @@ from .raster.camera import RasterCamera, resolve_sensor
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
 from .raster.visibility import Rasterizer
 
-#: per-scene GPU state of the scenes used most recently (geometry and lights stay uploaded)
-_CACHE: "OrderedDict[int, tuple[mi.Scene, dict[str, object]]]" = OrderedDict()
-_CACHE_SIZE = 4
-
-
-def _scene_state(scene: mi.Scene, name: str, factory: Callable[[], object]):
-    key = id(scene)
-    entry = _CACHE.get(key)
-    if entry is None or entry[0] is not scene:
-        entry = (scene, {})
-        _CACHE[key] = entry
-        while len(_CACHE) > _CACHE_SIZE:
-            _CACHE.popitem(last=False)
-    _CACHE.move_to_end(key)
-    if name not in entry[1]:
-        entry[1][name] = factory()
-    return entry[1][name]
-
-
 def rasterizer(scene: mi.Scene) -> Rasterizer:
     """The :class:`Rasterizer` of ``scene``, made (and its geometry uploaded) on first use.
 
     The few most recent scenes keep theirs. Geometry is read when the rasterizer is made: after
     editing vertex positions through ``mi.traverse``, call :func:`forget` for that scene."""
-    return _scene_state(scene, "rasterizer", lambda: Rasterizer(scene))
+    return scene_state(scene, "rasterizer", lambda: Rasterizer(scene))
 
 
 def renderer(scene: mi.Scene):
     """The hybrid renderer of ``scene`` (its rasterizer plus its lights), made on first use."""
     from .pipeline import HybridRenderer
 
-    return _scene_state(scene, "renderer", lambda: HybridRenderer(scene, rasterizer(scene)))
-
-
-def forget(scene: mi.Scene) -> None:
-    """Drop the cached GPU state of ``scene`` (geometry and lights are re-read on next use)."""
-    _CACHE.pop(id(scene), None)
+    return scene_state(scene, "renderer", lambda: HybridRenderer(scene, rasterizer(scene)))
 
 
 def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float, float] = (0.5, 0.5),

@@ -36,6 +36,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from ..cache import scene_state
 from ..errors import HybridError
 from ..primary import PrimaryHits
 from .visibility import VisibilityBuffer
@@ -102,7 +103,7 @@ def compute_aovs(scene: mi.Scene, hits: PrimaryHits, shape: tuple[int, int], aov
             out["specular"] = surface(specular)
     if "optical" in aovs:
         transmitted = _lobe_weight(bsdf, si, valid, mi.BSDFFlags.Transmission)
-        ior, roughness = _per_shape_constants(scene)
+        ior, roughness = scene_state(scene, "shape_constants", lambda: _per_shape_constants(scene))
         out["optical"] = surface([mi.luminance(specular), dr.gather(mi.Float, ior, hits.shape_index, valid),
                                   1.0 - mi.luminance(transmitted), dr.gather(mi.Float, roughness, hits.shape_index, valid)])
     if "emission" in aovs:  # background pixels keep the environment's radiance
