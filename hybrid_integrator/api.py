@@ -8,7 +8,7 @@ from .cache import scene_state
 from .environment import require_jit_rgb_variant
 from .errors import HybridError
 from .primary import primary_hits
-from .raster.camera import RasterCamera, resolve_sensor
+from .raster.camera import RasterCamera, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
 from .raster.visibility import Rasterizer
 
@@ -95,12 +95,11 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
     integrator = _integrator(dict(properties))
     sensor = resolve_sensor(scene, sensor)
     params = mi.traverse(sensor)
-    original = mi.ScalarTransform4f(np.array(params["to_world"].matrix, dtype=np.float64).reshape(4, 4))
+    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     results = []
     try:
         for frame, camera in enumerate(cameras):
-            matrix = np.array(camera.matrix if hasattr(camera, "matrix") else camera, dtype=np.float64).reshape(4, 4)
-            params["to_world"] = mi.ScalarTransform4f(matrix)
+            params["to_world"] = mi.ScalarTransform4f(transform_matrix(camera))
             params.update()
             results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp))
     finally:

@@ -34,8 +34,7 @@ import mitsuba as mi
 import numpy as np
 
 from .errors import HybridError
-
-KINDS = ("shadow", "reflection", "refraction", "indirect")
+from .selection import EFFECTS as KINDS  # the ray kinds an object may deserve are the effects
 PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
 
 

@@ -37,8 +37,8 @@ Properties
                  optimum's relevance on random instances, docs/results), ``graph`` (the paper's
                  selection graph, §4.2-4.3) or ``exact`` (0/1 knapsack).
 ``importance``   I of eq. 3: relevance bonus of objects selected in the previous frame.
-``freeze``       replay the path loop's recorded kernels across frames (``dr.freeze``): ~10× less
-                 launch overhead on scenes of hundreds of shapes. Opt-in: meant for one scene per
+``freeze``       replay the path loop's recorded kernels across frames (``dr.freeze``): ~13× less
+                 trace time on scenes of hundreds of shapes (docs/results). Opt-in: meant for one scene per
                  process (see ``hybrid_integrator/trace.py``).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 

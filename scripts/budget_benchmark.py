@@ -13,7 +13,7 @@
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
 
 Each frame is one sample per pixel, as in a real-time setting, with ``freeze=True`` (one scene in
-the process). Writes OUT.json, OUT.md, OUT.png.
+the process) unless ``--no-freeze``. Writes OUT.json, OUT.md, OUT.png.
 """
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(hi, scene, cameras, **props) -> list[dict]:
-    frames = hi.render_sequence(scene, cameras, spp=1, freeze=True, **props)
+    frames = hi.render_sequence(scene, cameras, spp=1, **props)
     return [{"frame": i, "trace_ms": f.stats.times_ms["trace"], "total_ms": f.stats.times_ms["total"],
              "predicted_ms": f.stats.predicted_trace_ms, "pixels_traced": f.stats.pixels_traced,
              "selected": len(f.stats.selected), "visible": f.stats.candidates_visible,
@@ -55,6 +55,8 @@ def main() -> None:
     parser.add_argument("--resx", type=int, default=320)
     parser.add_argument("--resy", type=int, default=180)
     parser.add_argument("--importance", type=float, default=0.01, help="I > 0 for the hysteresis run")
+    parser.add_argument("--freeze", action=argparse.BooleanOptionalAction, default=True,
+                        help="replay the path loop's recorded kernels (the integrator's freeze property)")
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs/results/cpu/budget")
     args = parser.parse_args()
 
@@ -66,20 +68,23 @@ def main() -> None:
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
     keyframes = json.loads(args.scene.with_name(args.scene.stem + "_path.json").read_text())["keyframes"]
     cameras = hi.camera_path(keyframes, args.frames)
-    run(hi, scene, cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
+    def sequence(**props):
+        return run(hi, scene, cameras, freeze=args.freeze, **props)
 
-    runs = {"all candidates": run(hi, scene, cameras)}
+    run(hi, scene, cameras[:2], freeze=args.freeze)  # warm-up: kernels, geometry upload, frozen recordings
+
+    runs = {"all candidates": sequence()}
     all_ms = statistics.median(f["trace_ms"] for f in runs["all candidates"])
     budget = all_ms / 2
     for selection in ("greedy", "graph", "exact"):
-        runs[f"{selection}, I=0"] = run(hi, scene, cameras, budget_ms=budget, selection=selection)
+        runs[f"{selection}, I=0"] = sequence(budget_ms=budget, selection=selection)
         print(selection, summary(runs[f"{selection}, I=0"], budget), flush=True)
-    runs[f"greedy, I={args.importance}"] = run(hi, scene, cameras, budget_ms=budget, selection="greedy",
-                                               importance=args.importance)
+    runs[f"greedy, I={args.importance}"] = sequence(budget_ms=budget, selection="greedy", importance=args.importance)
     summaries = {name: summary(frames, 0.0 if name == "all candidates" else budget) for name, frames in runs.items()}
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
-               f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
+               f"--resx {args.resx} --resy {args.resy} --importance {args.importance}"
+               + ("" if args.freeze else " --no-freeze"))
     from hybrid_integrator.raster.context import renderer_name
     machine = {"variant": args.variant, "gl_renderer": renderer_name(), "cpu": platform.processor() or platform.machine()}
     args.output.parent.mkdir(parents=True, exist_ok=True)

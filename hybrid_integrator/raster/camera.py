@@ -59,8 +59,8 @@ class RasterCamera:
         ppx = float(params["principal_point_offset_x"][0])
         ppy = float(params["principal_point_offset_y"][0])
         near, far = sensor.near_clip(), sensor.far_clip()
-        camera_to_sample = _matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
-        camera_to_world = _matrix(params["to_world"])
+        camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
+        camera_to_world = transform_matrix(params["to_world"])
         sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
@@ -78,9 +78,9 @@ class RasterCamera:
         return shift @ self.world_to_clip
 
 
-def _matrix(transform) -> np.ndarray:
-    """A Mitsuba transform (one-lane JIT or scalar) as a 4×4 float64 numpy matrix."""
-    return np.array(transform.matrix, dtype=np.float64).reshape(4, 4)
+def transform_matrix(transform) -> np.ndarray:
+    """A Mitsuba transform (one-lane JIT or scalar) or a 4×4 array as a float64 numpy matrix."""
+    return np.array(getattr(transform, "matrix", transform), dtype=np.float64).reshape(4, 4)
 
 
 def resolve_sensor(scene: mi.Scene, sensor: int | mi.Sensor) -> mi.Sensor:
@@ -99,7 +99,7 @@ def sensor_like(sensor: mi.Sensor, width: int, height: int, fov_axis: str = "x",
     another film size, ``fov_axis`` convention or principal point offset, built by Mitsuba's own
     plugin (for resolution sweeps and for checking the camera conventions)."""
     params = mi.traverse(sensor)
-    to_world = mi.ScalarTransform4f(_matrix(params["to_world"]))
+    to_world = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     aspect = width / height
     half_x = np.tan(np.radians(float(params["x_fov"][0])) / 2)
     half = {"x": half_x, "y": half_x / aspect, "diagonal": half_x * np.hypot(1.0, 1.0 / aspect),

@@ -15,6 +15,7 @@ import mitsuba as mi
 import numpy as np
 
 from ..errors import UnsupportedSceneError
+from .camera import transform_matrix
 
 #: segments around the circumference of a proxy
 PROXY_SEGMENTS = 64
@@ -47,7 +48,7 @@ def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:
         proxy = False
     elif kind in PROXY_TYPES:
         positions, faces = _PROXIES[kind]()
-        to_world = np.array(mi.traverse(shape)["to_world"].matrix, dtype=np.float64).reshape(4, 4)
+        to_world = transform_matrix(mi.traverse(shape)["to_world"])
         positions = (positions @ to_world[:3, :3].T + to_world[:3, 3]).astype(np.float32)
         proxy = True
     else:

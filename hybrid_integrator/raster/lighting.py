@@ -27,6 +27,7 @@ import mitsuba as mi
 import moderngl
 import numpy as np
 
+from .camera import transform_matrix
 from .context import gl_context
 
 AREA_SAMPLES = 16
@@ -56,10 +57,6 @@ def _rgb(value) -> np.ndarray:
 def _columns(value, n: int) -> np.ndarray:
     """A 3-vector Dr.Jit array as an (n, 3) numpy array (constant lanes are broadcast)."""
     return np.stack([np.broadcast_to(np.array(value[k], dtype=np.float64), (n,)) for k in range(3)], axis=-1)
-
-
-def _matrix(transform) -> np.ndarray:
-    return np.array(transform.matrix, dtype=np.float64).reshape(4, 4)
 
 
 def scene_lights(scene: mi.Scene) -> RasterLights:
@@ -92,13 +89,13 @@ def scene_lights(scene: mi.Scene) -> RasterLights:
         if kind == "PointLight":
             add("point", np.array(params["position"], dtype=np.float64).ravel(), np.zeros(3), _rgb(params["intensity.value"]))
         elif kind == "SpotLight" and "intensity.value" in params:
-            m = _matrix(params["to_world"])
+            m = transform_matrix(params["to_world"])
             axis = m[:3, 2] / np.linalg.norm(m[:3, 2])
             add("spot", m[:3, 3], axis, _rgb(params["intensity.value"]),
                 np.cos(np.radians(float(np.array(params["cutoff_angle"]).ravel()[0]))),
                 np.cos(np.radians(float(np.array(params["beam_width"]).ravel()[0]))))
         elif kind == "DirectionalEmitter":
-            m = _matrix(params["to_world"])
+            m = transform_matrix(params["to_world"])
             add("directional", np.zeros(3), m[:3, 2] / np.linalg.norm(m[:3, 2]), _rgb(params["irradiance.value"]))
         elif flags & int(mi.EmitterFlags.Infinite) and not flags & int(mi.EmitterFlags.Delta):
             ambient += _average_radiance(emitter)
