@@ -18,8 +18,9 @@ non-candidates; ``""`` means none.
 - D_k = its mean depth / the mean depth of all visible pixels (dimensionless, 1 = typical);
 - **V_k = A_k · P_k / D_k** (eq. 1), in [0, 1] for an object at typical depth;
 - Q_k = Σ_kind n_k · rays_per_pixel(k, kind): the secondary rays it will cost, with rays per
-  pixel per kind learnt from the rays counted when k was last traced (prior: shadow 1,
-  reflection 1, refraction 2, indirect 1);
+  pixel per kind learnt from the rays its paths spawned when k was last traced, at every depth
+  (a glass object's paths also cast shadow rays where they reach a diffuse surface); before k is
+  first traced, a prior for its own kinds: shadow 1, reflection 1, refraction 2, indirect 1;
 - **C_k = V_k · Q_k** (eq. 2), reported as the paper defines it. The budget is in milliseconds,
   so the selectors compare it with ``cost_ms``, the time the cost model (``budget.py``) predicts
   for Q_k rays;
@@ -101,21 +102,13 @@ class ObjectRelevance:
     rays: dict[str, float]  # Q per kind
     cost: float  # C = V·Q, eq. 2
     relevance: float  # R = S·I + V, eq. 3
-    #: objects that deserve every kind their material has can share one trace call (their BSDF has
-    #: no lobe for the kinds of the others); the others (``candidates`` narrowed their kinds) are
-    #: traced with their own kinds: () for the former, their kinds for the latter
-    batch_key: tuple[str, ...] = ()
 
 
 def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tuple[str, ...]], names: list[str],
                      effects: tuple[str, ...], selected_last: set[int], importance: float,
-                     rays_per_pixel: dict[int, dict[str, float]],
-                     material: list[tuple[str, ...]] | None = None) -> list[ObjectRelevance]:
+                     rays_per_pixel: dict[int, dict[str, float]]) -> list[ObjectRelevance]:
     """Eq. 1–3 for every candidate visible in a visibility buffer (``shape_index``, ``depth``:
-    H×W, -1 / inf for background). ``kinds`` are intersected with the integrator's ``effects``;
-    ``material`` (the kinds each material has, default ``kinds``) decides which objects may share
-    a trace call."""
-    material = material if material is not None else kinds
+    H×W, -1 / inf for background). ``kinds`` are intersected with the integrator's ``effects``."""
     h, w = shape_index.shape
     hit = shape_index >= 0
     if not hit.any():
@@ -138,12 +131,10 @@ def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tup
         centrality = max(0.0, 1.0 - offset / half_diagonal)
         distance = max((sum_d[k] / n) / mean_depth, 1e-6)
         visibility = area * centrality / distance
-        per_pixel = rays_per_pixel.get(k, {})
-        rays = {kind: float(n) * per_pixel.get(kind, PRIOR_RAYS_PER_PIXEL[kind]) for kind in active}
+        per_pixel = rays_per_pixel.get(k) or {kind: PRIOR_RAYS_PER_PIXEL[kind] for kind in active}
+        rays = {kind: float(n) * v for kind, v in per_pixel.items() if v > 0}
         relevance = (importance if k in selected_last else 0.0) + visibility
-        complete = active == tuple(kind for kind in material[k] if kind in effects)
         out.append(ObjectRelevance(index=k, name=names[k], kinds=active, pixels=int(n), area=area, centrality=centrality,
                                    distance=distance, visibility=visibility, rays=rays,
-                                   cost=visibility * sum(rays.values()), relevance=relevance,
-                                   batch_key=() if complete else active))
+                                   cost=visibility * sum(rays.values()), relevance=relevance))
     return out

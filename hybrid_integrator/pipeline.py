@@ -88,6 +88,7 @@ class FrameStats:
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected for the batches traced
+    predicted_rays: int = 0  # the secondary rays it expected them to trace (``secondary_rays``: traced)
     candidates_visible: int = 0
     selected: tuple[str, ...] = ()  # objects traced this frame, most relevant first
     relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
@@ -144,7 +145,6 @@ class HybridRenderer:
         self.scene = scene
         self.raster = rasterizer
         self.lighting = DeferredLighting(scene)
-        self.material_kinds = candidate_kinds(None, scene)
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
                aovs=(), state: FrameState | None = None) -> HybridResult:
@@ -157,6 +157,11 @@ class HybridRenderer:
         spp = int(spp) or sensor.sampler().sample_count()
         state = state if state is not None else FrameState()
         kinds = candidate_kinds(settings.candidates, scene)
+        # the distinct effect sets the candidates deserve, and each shape's (-1: not a candidate):
+        # fixed for the frame, so that one traced kernel serves every selection
+        active = [tuple(k for k in ks if k in settings.effects) for ks in kinds]
+        configs = tuple(sorted({a for a in active if a}))
+        shape_config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int64)
         names = [shape.id() for shape in scene.shapes()]
         has_emitters = len(scene.emitters()) > 0
         w, h = camera.width, camera.height
@@ -213,29 +218,32 @@ class HybridRenderer:
             for i, batch in enumerate(list(plan.batches)):
                 predicted = state.cost_model.predict(batch.rays)
                 elapsed = (time.perf_counter() - stage_start) * 1e3
-                if sample == 0 and elapsed + predicted > plan.pass_budget_ms:
-                    plan.cut(i)  # would overrun: this and the less relevant batches show the raster layer
+                if sample == 0 and i > 0 and elapsed + predicted > plan.pass_budget_ms:
+                    # the batches before ran slower than predicted, and this one would overrun:
+                    # it and the less relevant ones show the raster layer (the first was planned to fit)
+                    plan.cut(i)
                     break
                 batch_start = time.perf_counter()  # the whole batch: selecting its pixels, tracing, accumulating
-                selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid, batch.mask, batch.effects,
-                                          has_emitters)
+                selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid,
+                                          np.where(batch.mask, shape_config, -1), configs, has_emitters)
                 batch_rt, batch_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
                                                        settings.max_depth, settings.rr_depth, settings.hide_emitters,
-                                                       seed=(int(seed) << 32) + sample, first_effects=batch.effects,
-                                                       freeze=settings.freeze)
+                                                       seed=(int(seed) << 32) + sample, first_effects=configs,
+                                                       first_config=selection.config, freeze=settings.freeze,
+                                                       shape_index=hits.shape_index, n_shapes=len(names))
                 rt += batch_rt
                 traced |= selection.traced
                 dr.eval(rt, traced)
                 dr.sync_thread()
                 batch_ms = (time.perf_counter() - batch_start) * 1e3
                 if not batch_counts.recorded:  # a recording's time is a one-off, not the tracing cost
-                    state.cost_model.observe(batch_counts.rays, batch_ms)
-                total_pixels = max(sum(batch.pixels.values()), 1)
+                    state.cost_model.observe(batch_counts.rays, batch_ms, expected=batch.rays)
                 for k, n in batch.pixels.items():
-                    state.learn_rays(k, n, {kind: v * n / total_pixels for kind, v in batch_counts.rays.items()})
+                    state.learn_rays(k, n, batch_counts.per_object.get(k, dict.fromkeys(RAY_KINDS, 0)))
                 counts.add(batch_counts)
                 stats.pixels_traced += selection.count
                 stats.predicted_trace_ms += float(predicted)
+                stats.predicted_rays += int(sum(batch.rays.values()))
                 batches_ms += batch_ms
             clock.lap("trace", rt, traced)
             state.learn_overhead((time.perf_counter() - stage_start) * 1e3, batches_ms)
@@ -268,7 +276,7 @@ class HybridRenderer:
         shape_index = np.where(np.array(hits.valid), np.array(hits.shape_index, dtype=np.int64), -1).reshape(h, w)
         depth = np.array(dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))).reshape(h, w)
         objects = object_relevance(shape_index, depth, kinds, names, settings.effects, state.selected,
-                                   settings.importance, state.rays_per_pixel, self.material_kinds)
+                                   settings.importance, state.rays_per_pixel)
         return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model,
                           overhead_ms=state.overhead_ms)
 
@@ -284,4 +292,4 @@ class HybridRenderer:
         stats.batches = len(plan.batches)
         state.selected = traced
         if plan.objects and not traced and plan.pass_budget_ms < float("inf"):
-            state.cost_model.relax()
+            state.cost_model.forget_slowest()

@@ -63,20 +63,32 @@ class Selection:
     """Per-pixel outcome of the selection stage for one pass."""
 
     traced: mi.Bool  # the pixel's primary hit is ray traced
+    config: mi.UInt32  # which of the effect sets its object deserves (an index into ``configs``)
     count: int  # number of traced pixels
 
 
-def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, shape_index: mi.UInt32, valid: mi.Bool,
-                  shapes: np.ndarray, effects: tuple[str, ...], has_emitters: bool) -> Selection:
-    """Traced pixels: pixels of the ``shapes`` (bool per scene shape) whose BSDF needs one of the
-    ``effects``."""
-    flags = si.bsdf(ray).flags()
+def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.Bool:
+    """Whether a BSDF with ``flags`` has a lobe one of ``effects`` acts on (the table above)."""
     need = mi.Bool(False)
     if "shadow" in effects and has_emitters:
         need |= mi.has_flag(flags, mi.BSDFFlags.Smooth)
     continued = lobes(effects)
     if continued:
         need |= (flags & continued) != 0
-    chosen = dr.gather(mi.Bool, mi.Bool(shapes), shape_index, valid) if shapes.size else mi.Bool(False)
-    traced = valid & chosen & need
-    return Selection(traced=traced, count=count(traced))
+    return need
+
+
+def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, shape_index: mi.UInt32, valid: mi.Bool,
+                  shape_config: np.ndarray, configs: tuple[tuple[str, ...], ...], has_emitters: bool) -> Selection:
+    """Traced pixels: pixels of the selected shapes (``shape_config`` ≥ 0, per scene shape: the
+    index of the shape's effect set in ``configs``) whose BSDF needs one of those effects."""
+    if not shape_config.size or shape_config.max() < 0:
+        return Selection(traced=dr.zeros(mi.Bool, dr.width(valid)), config=dr.zeros(mi.UInt32, dr.width(valid)), count=0)
+    config = dr.gather(mi.Int32, mi.Int32(shape_config.astype(np.int32)), shape_index, valid)
+    config = dr.select(valid, config, -1)
+    flags = si.bsdf(ray).flags()
+    traced = mi.Bool(False)
+    for k, effects in enumerate(configs):  # every set, selected or not: the same kernel every frame
+        traced |= (config == k) & needs(flags, effects, has_emitters)
+    traced &= valid
+    return Selection(traced=traced, config=mi.UInt32(dr.maximum(config, 0)), count=count(traced))

@@ -12,7 +12,8 @@ follow relevance pointers while they lead to a more relevant node; the node wher
 selected, ray traced, and moved to the next graph; its cost is taken from the time left and the
 walk starts again. When nothing fits, every remaining node moves to the next graph.
 
-**Greedy**: take nodes by decreasing R/C while they fit. **Exact**: the 0/1 knapsack optimum
+**Greedy**: take nodes by decreasing R/C while they fit, unless the single most relevant node
+that fits is worth more. **Exact**: the 0/1 knapsack optimum
 (maximum total R with total C within the budget), solved as a mixed-integer linear program by
 SciPy's HiGHS (``scipy.optimize.milp``); meant for small N, as a yardstick.
 
@@ -85,11 +86,17 @@ class SelectionGraph:
 
 
 def select_greedy(nodes: list[Node], budget: float) -> list[Node]:
+    """Nodes by decreasing R/C while they fit, or the single most relevant node that fits if that
+    alone is worth more (which guarantees at least half the optimum: ratio order alone can fill
+    the budget with small objects and leave out a large, relevant one)."""
     chosen, time_left = [], float(budget)
     for node in sorted(nodes, key=lambda n: -n.relevance / max(n.cost, 1e-12)):
         if node.cost <= time_left:
             chosen.append(node)
             time_left -= node.cost
+    best = max((n for n in nodes if n.cost <= budget), key=lambda n: n.relevance, default=None)
+    if best is not None and best.relevance > sum(n.relevance for n in chosen):
+        return [best]
     return chosen
 
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 import drjit as dr
 import mitsuba as mi
+import numpy as np
 
 from .selection import EFFECTS as RAY_KINDS  # one kind of secondary ray per effect
 from .selection import lobes as followed_lobes
@@ -35,6 +36,8 @@ class TraceCounts:
     """Secondary rays traced, by kind."""
 
     rays: dict[str, int] = field(default_factory=lambda: dict.fromkeys(RAY_KINDS, 0))
+    #: rays per kind of each object traced ({shape index: {kind: rays}}), where asked for
+    per_object: dict[int, dict[str, int]] = field(default_factory=dict)
     #: the call recorded a frozen function (its time is a one-off, not the tracing cost)
     recorded: bool = False
 
@@ -70,44 +73,65 @@ class Lobes:
     def of(cls, effects: tuple[str, ...]) -> "Lobes":
         return cls(shadow="shadow" in effects, follow=followed_lobes(effects))
 
+    def key(self) -> tuple[bool, int]:
+        return self.shadow, self.follow
+
 
 def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, traced: mi.Bool,
                   effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool,
-                  seed: int, first_effects: tuple[str, ...] | None = None,
-                  freeze: bool = False) -> tuple[mi.Color3f, TraceCounts]:
+                  seed: int, first_effects: tuple[tuple[str, ...], ...] | None = None,
+                  first_config: mi.UInt32 | None = None, freeze: bool = False,
+                  shape_index: mi.UInt32 | None = None, n_shapes: int = 0) -> tuple[mi.Color3f, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
-    primary rays and hits of every pixel, ``seed`` distinguishes passes. ``first_effects`` (default
-    ``effects``) are the rays spawned at the primary hit, the kinds its object deserves (§4.1);
-    deeper vertices use ``effects``. ``freeze`` replays the path loop's recorded kernels
-    (:func:`_run_paths`)."""
+    primary rays and hits of every pixel, ``seed`` distinguishes passes.
+
+    The rays spawned at the primary hit are the kinds its object deserves (§4.1): pixel ``i``
+    uses ``first_effects[first_config[i]]`` (default: ``effects`` everywhere), so objects with
+    different kinds are traced in one call; deeper vertices use ``effects``. ``freeze`` replays
+    the path loop's recorded kernels (:func:`_run_paths`). With ``shape_index`` (per pixel, of
+    ``n_shapes``), the rays are also counted per object (what the cost model learns from)."""
     radiance = dr.zeros(mi.Color3f, dr.width(traced))
     pixel = dr.compress(traced)  # only the selected pixels are traced: cost follows the selection
     if dr.width(pixel) == 0:
         return radiance, TraceCounts()
     ray = dr.gather(mi.Ray3f, ray, pixel)
     si = dr.gather(mi.SurfaceInteraction3f, si, pixel)
+    first = tuple(Lobes.of(e) for e in (first_effects if first_effects is not None else (effects,)))
+    # the lobe set of each traced pixel (None: one set for all)
+    config = dr.gather(mi.UInt32, first_config, pixel) if len(first) > 1 else None
     # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane
     # offset; the pass seed is opaque so that the kernel is not recompiled every pass
     rng = mi.PCG32(dr.width(pixel))
     rng.seed(dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))
-    first, rest = Lobes.of(first_effects if first_effects is not None else effects), Lobes.of(effects)
+    rest = Lobes.of(effects)
     recorded = False
     if freeze:
-        L, rays, recorded = _run_paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+        L, rays, recorded = _run_paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
     else:
-        L, rays = _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+        L, rays = _paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
     dr.scatter(radiance, L, pixel)
-    totals = [dr.sum(r) for r in rays]
-    dr.eval(radiance, *totals)
-    return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))), recorded=recorded)
+    if shape_index is None:
+        totals = [dr.sum(r) for r in rays]
+        dr.eval(radiance, *totals)
+        return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))), recorded=recorded)
+    objects = dr.gather(mi.UInt32, shape_index, pixel)
+    per_object = [dr.zeros(mi.UInt32, n_shapes) for _ in rays]
+    for target, r in zip(per_object, rays):
+        dr.scatter_reduce(dr.ReduceOp.Add, target, r, objects)
+    dr.eval(radiance, *per_object)
+    table = np.stack([np.array(t, dtype=np.int64) for t in per_object], axis=1)  # shapes × kinds
+    traced = np.nonzero(table.sum(axis=1) > 0)[0]
+    return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(v) for v in table.sum(axis=0)))),
+                                 per_object={int(k): dict(zip(RAY_KINDS, map(int, table[k]))) for k in traced},
+                                 recorded=recorded)
 
 
 #: the path loop, frozen (``dr.freeze``) once per configuration of its static arguments
 _FROZEN: dict[tuple, object] = {}
 
 
-def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, first: Lobes,
-               rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
+def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, config: mi.UInt32 | None,
+               first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
     """(radiance, rays, whether this call recorded). ``_paths`` with its static arguments bound, as a frozen function: the first call records its
     kernel launches, later calls replay them (any number of pixels), skipping the Python tracing
     and code generation that dominate a call on a scene of a few hundred shapes (the shape and BSDF
@@ -119,20 +143,20 @@ def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng:
     object registry as it was when recorded. With one scene per process (a renderer, a benchmark)
     results equal the unfrozen loop's; in a process that creates and destroys other Mitsuba
     objects between frames (a test session) they were seen to differ in a few dozen of 10⁵ rays."""
-    key = (id(scene), first.shadow, first.follow, rest.shadow, rest.follow, max_depth, rr_depth, hide_emitters)
+    key = (id(scene), tuple(f.key() for f in first), rest.key(), max_depth, rr_depth, hide_emitters)
     frozen = _FROZEN.get(key)
     if frozen is None and key not in _FROZEN:
-        def paths(scene, ray, si, rng):
-            return _paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters)
+        def paths(scene, ray, si, rng, config):
+            return _paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
         frozen = _FROZEN[key] = dr.freeze(paths)
     if frozen is not None:
         before = frozen.n_recordings
         try:
-            L, rays = frozen(scene, ray, si, rng)
+            L, rays = frozen(scene, ray, si, rng, config)
             return L, rays, frozen.n_recordings != before
         except RuntimeError:
             _FROZEN[key] = None  # not recordable: run unfrozen from now on
-    return (*_paths(scene, ray, si, rng, first, rest, max_depth, rr_depth, hide_emitters), False)
+    return (*_paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters), False)
 
 
 @dataclass
@@ -150,36 +174,72 @@ class _Path:
     rays: list  # per ray kind (RAY_KINDS order), per lane
 
 
-def _vertex(scene: mi.Scene, p: _Path, lobes: Lobes, depth_limit: int, rr_depth: int) -> None:
+def _lanes(pairs: list) -> mi.Bool | bool:
+    """The lanes of the (lane mask, condition) pairs whose condition holds: a Python bool when
+    that is all or none of them."""
+    chosen = [m for m, holds in pairs if holds]
+    if len(chosen) == len(pairs):
+        return True
+    out = mi.Bool(False)
+    for m in chosen:
+        out |= m
+    return out if chosen else False
+
+
+def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt32 | None, depth_limit: int,
+            rr_depth: int) -> None:
     """One path vertex, as Mitsuba's ``path``: emitter sampling (a shadow ray or unshadowed light),
     then BSDF sampling of the followed lobes, the next intersection and the light it reaches,
-    MIS-weighted. Updates ``p`` in place."""
+    MIS-weighted. Lane ``i`` does what ``lobes[config[i]]`` says (``config`` None: ``lobes[0]``
+    everywhere). Updates ``p`` in place."""
     si = p.si
     bsdf = si.bsdf(p.ray)
     active_next = p.active & si.is_valid() & (p.depth + 1 < depth_limit)
-    ctx_follow = mi.BSDFContext()
-    ctx_follow.type_mask = lobes.follow
-    ctx_rest = mi.BSDFContext()
-    ctx_rest.type_mask = int(mi.BSDFFlags.All) & ~lobes.follow
+    masks = [None] if config is None else [config == k for k in range(len(lobes))]
+
+    def within(mask, active):
+        return active if mask is None else active & mask
 
     if len(scene.emitters()) > 0:
         nee = active_next & mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
         ds, em_weight = scene.sample_emitter_direction(si, mi.Point2f(p.rng.next_float32(), p.rng.next_float32()),
-                                                       lobes.shadow, nee)
+                                                       False, nee)
+        shadowed = _lanes([(m, l.shadow) for m, l in zip(masks, lobes)])
+        if shadowed is not False:  # the shadow ray, as sample_emitter_direction(test_visibility=True) casts it
+            test = nee & (ds.pdf > 0) & shadowed
+            em_weight[scene.ray_test(si.spawn_ray_to(ds.p), test)] = 0.0
+            p.rays[0] += dr.select(test, 1, 0)
         wo = si.to_local(ds.d)
-        value = bsdf.eval(ctx_rest, si, wo, nee)
-        if lobes.follow:
-            value_follow, pdf_follow = bsdf.eval_pdf(ctx_follow, si, wo, nee)
-            value += value_follow * dr.select(ds.delta, 1.0, _mis(ds.pdf, pdf_follow))
+        value = dr.zeros(mi.Color3f, dr.width(nee))
+        for mask, lobe in zip(masks, lobes):
+            active = within(mask, nee)
+            ctx_rest = mi.BSDFContext()
+            ctx_rest.type_mask = int(mi.BSDFFlags.All) & ~lobe.follow
+            v = bsdf.eval(ctx_rest, si, wo, active)
+            if lobe.follow:
+                ctx_follow = mi.BSDFContext()
+                ctx_follow.type_mask = lobe.follow
+                value_follow, pdf_follow = bsdf.eval_pdf(ctx_follow, si, wo, active)
+                v += value_follow * dr.select(ds.delta, 1.0, _mis(ds.pdf, pdf_follow))
+            value = v if mask is None else dr.select(mask, v, value)
         p.L += dr.select(nee, p.beta * em_weight * value, 0.0)
-        if lobes.shadow:
-            p.rays[0] += dr.select(nee & (ds.pdf > 0), 1, 0)
 
-    if not lobes.follow:
+    followed = _lanes([(m, l.follow != 0) for m, l in zip(masks, lobes)])
+    if followed is False:
         p.active = mi.Bool(False)
         return
-    bs, weight = bsdf.sample(ctx_follow, si, p.rng.next_float32(), mi.Point2f(p.rng.next_float32(), p.rng.next_float32()),
-                             active_next)
+    sample1, sample2 = p.rng.next_float32(), mi.Point2f(p.rng.next_float32(), p.rng.next_float32())
+    bs, weight = None, None
+    for mask, lobe in zip(masks, lobes):
+        if not lobe.follow:
+            continue
+        ctx_follow = mi.BSDFContext()
+        ctx_follow.type_mask = lobe.follow
+        bs_k, weight_k = bsdf.sample(ctx_follow, si, sample1, sample2, within(mask, active_next))
+        bs = bs_k if bs is None else dr.select(mask, bs_k, bs)
+        weight = weight_k if weight is None else dr.select(mask, weight_k, weight)
+    if followed is not True:
+        active_next &= followed
     p.beta *= weight
     p.eta *= bs.eta
     rr_prob = dr.minimum(dr.max(p.beta) * p.eta * p.eta, 0.95)
@@ -201,9 +261,10 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: Lobes, depth_limit: int, rr_depth:
 
 
 @dr.syntax
-def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, first: Lobes, rest: Lobes,
-           max_depth: int, rr_depth: int, hide_emitters: bool):
-    """The paths from the primary hits ``si``: the primary vertex with the object's own lobes, then
+def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, config: mi.UInt32 | None,
+           first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
+    """The paths from the primary hits ``si``: the primary vertex with its object's own lobes
+    (``first[config]``), then
     one symbolic Dr.Jit loop (as Mitsuba's ``path``) with the integrator's. Returns the radiance
     and, per ray kind, the rays each lane traced."""
     n = dr.width(rng.state)
@@ -212,11 +273,11 @@ def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.
     p = _Path(ray=ray, si=si, rng=rng, L=emitted, beta=dr.full(mi.Color3f, 1.0, n), eta=dr.full(mi.Float, 1.0, n),
               depth=dr.zeros(mi.UInt32, n), active=dr.full(mi.Bool, True, n),
               rays=[dr.zeros(mi.UInt32, n) for _ in RAY_KINDS])
-    _vertex(scene, p, first, depth_limit, rr_depth)
+    _vertex(scene, p, first, config, depth_limit, rr_depth)
     # the loop's state variables, one by one, as dr.while_loop tracks them
     ray, si, rng, L, beta, eta, depth, active, rays = p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays
     while active:
         q = _Path(ray=ray, si=si, rng=rng, L=L, beta=beta, eta=eta, depth=depth, active=active, rays=list(rays))
-        _vertex(scene, q, rest, depth_limit, rr_depth)
+        _vertex(scene, q, (rest,), None, depth_limit, rr_depth)
         ray, si, rng, L, beta, eta, depth, active, rays = q.ray, q.si, q.rng, q.L, q.beta, q.eta, q.depth, q.active, q.rays
     return L, rays

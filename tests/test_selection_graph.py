@@ -77,3 +77,9 @@ def test_no_selector_beats_the_optimum(seed):
         assert sum(n.relevance for n in chosen) <= optimum + 1e-9
     with pytest.raises(ValueError, match="selection='best'"):
         select("best", nodes, budget)
+
+
+def test_greedy_keeps_a_large_relevant_object_that_ratio_order_leaves_out():
+    small, large = Node("small", 1.0, 2.0), Node("large", 10.0, 10.0)
+    assert [n.key for n in select_greedy([small, large], 10.0)] == ["large"]
+    assert {n.key for n in select_greedy([small, large], 11.0)} == {"small", "large"}
