@@ -3,6 +3,8 @@
     hybrid gbuffer SCENE.xml -o gbuffer.exr [--aovs all]
     hybrid render  SCENE.xml -o out.exr [--spp N] [--primary raytrace] [--effects ...]
     hybrid compare SCENE.xml [-o out/compare] [--spp N] [--gt-spp N]
+    hybrid bench   SCENE.xml [SCENE.xml | procedural:TRIANGLES ...] [-o out/bench] [--frames N]
+    hybrid bench   --scaling triangles --values 10000 100000 ... | --scaling resolution --values 640x360 ...
 
 Every command takes ``-D name=value`` (the scene's ``$name`` parameters, as Mitsuba's own command
 line) and ``--variant``. Errors the package raises on purpose are printed as one line,
@@ -12,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -63,6 +66,28 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--gt-spp", dest="gt_spp", type=int, default=512, help="samples per pixel of the ground truth")
     compare.add_argument("--seed", type=int, default=0)
     _integrator_options(compare)
+
+    bench = sub.add_parser("bench", help="the paper's Tables 3 and 4 with accuracy: time and error per method, "
+                                         "charts, scaling curves (bench.py)")
+    bench.add_argument("scenes", nargs="*", help="scene XMLs, or procedural:TRIANGLES")
+    bench.add_argument("-o", "--output", type=Path, default=Path("out/bench"),
+                       help="folder for the JSON, tables and charts (with --scaling: the file stem)")
+    bench.add_argument("--frames", type=int, default=5, help="measured frames per method (medians)")
+    bench.add_argument("--spp", type=int, default=1, help="samples per pixel of each hybrid frame")
+    bench.add_argument("--gt-spp", dest="gt_spp", type=int, default=1024, help="samples per pixel of the ground truth")
+    bench.add_argument("--max-path-spp", dest="max_path_spp", type=int, default=64, help="path's curve: 1, 2, 4 … this")
+    bench.add_argument("--budgets", nargs="*", type=float, default=[0.0, 0.25, 0.5, 0.75],
+                       help="budgets as fractions of the all-candidates trace time")
+    bench.add_argument("--freeze", action=argparse.BooleanOptionalAction, default=True,
+                       help="replay the path loop's recorded kernels (the integrator's freeze property)")
+    bench.add_argument("--scaling", choices=("triangles", "resolution"), help="time against triangles or resolution")
+    bench.add_argument("--values", nargs="*", default=[], help="triangle counts, or WxH resolutions, for --scaling")
+    bench.add_argument("--single", type=Path, help=argparse.SUPPRESS)  # child process: one scene, JSON here
+    bench.add_argument("--scaling-point", dest="scaling_point", action="store_true", help=argparse.SUPPRESS)
+    _integrator_options(bench)
+    bench.add_argument("-D", dest="defines", action="append", type=_define, default=[], metavar="NAME=VALUE",
+                       help="scene parameter ($NAME in the XML), e.g. -D sponza_dir=/data/sponza")
+    bench.add_argument("--variant", default=DEFAULT_VARIANT, help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
 
     for p in (gbuffer, render, compare):
         p.add_argument("scene", type=Path, help="Mitsuba scene XML")
@@ -122,8 +147,51 @@ def _compare(args) -> dict:
             "errors": str(args.output / "errors.png")}
 
 
+def _bench_options(args) -> list[str]:
+    """The options a child process of ``hybrid bench`` gets (one scene each: bench.py)."""
+    options = ["--variant", args.variant, "--frames", str(args.frames), "--spp", str(args.spp),
+               "--gt-spp", str(args.gt_spp), "--max-path-spp", str(args.max_path_spp),
+               "--budgets", *map(str, args.budgets), "--freeze" if args.freeze else "--no-freeze"]
+    for name, value in _properties(args).items():
+        flag = "--" + name.replace("_", "-")
+        options += [flag] if value is True else [flag, str(value)]
+    for name, value in args.defines:
+        options += ["-D", f"{name}={value}"]
+    return options
+
+
+def _bench(args) -> dict:
+    from hybrid_integrator import bench
+    from hybrid_integrator.errors import HybridError
+
+    command = "hybrid bench " + shlex.join(args.argv)
+    if args.single is not None:  # a child process: measure one scene
+        if len(args.scenes) != 1:
+            raise HybridError("bench --single takes one scene")
+        budgets = () if args.scaling_point else args.budgets
+        report = bench.bench_scene(args.scenes[0], dict(args.defines), frames=args.frames, spp=args.spp,
+                                   gt_spp=args.gt_spp, max_path_spp=args.max_path_spp, budgets=budgets,
+                                   freeze=args.freeze, accuracy=not args.scaling_point, **_properties(args))
+        args.single.write_text(json.dumps(report, indent=2))
+        return {"report": str(args.single)}
+    if args.scaling:
+        if not args.values:
+            raise HybridError("bench --scaling needs --values (triangle counts, or WxH resolutions)")
+        points = bench.scaling(args.scaling, args.values, args.output, _bench_options(args), command)
+        return {"json": str(args.output.with_suffix(".json")), "points": len(points)}
+    if not args.scenes:
+        raise HybridError("bench: give at least one scene (an XML, or procedural:TRIANGLES)")
+    args.output.mkdir(parents=True, exist_ok=True)
+    reports = bench.run(args.scenes, args.output, _bench_options(args), command)
+    print(bench.tables(reports, [command]), file=sys.stderr)
+    return {"json": str(args.output / "bench.json"), "tables": str(args.output / "bench.md"),
+            "charts": [str(args.output / f"{r['name']}.png") for r in reports]}
+
+
 def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = _parser().parse_args(argv)
+    args.argv = argv[1:]
     import mitsuba as mi
 
     from hybrid_integrator.environment import pin_llvm
@@ -138,7 +206,7 @@ def main(argv: list[str] | None = None) -> int:
         import hybrid_integrator as hi
 
         hi.register()
-        report = {"gbuffer": _gbuffer, "render": _render, "compare": _compare}[args.command](args)
+        report = {"gbuffer": _gbuffer, "render": _render, "compare": _compare, "bench": _bench}[args.command](args)
     except HybridError as exc:
         print(f"hybrid: error: {exc}", file=sys.stderr)
         return 2

@@ -75,11 +75,15 @@ def render_path(scene: mi.Scene, spp: int, max_depth: int, seed: int = 0) -> mi.
     return mi.render(scene, integrator=integrator, spp=spp, seed=seed)
 
 
-def ground_truth(scene_path: Path, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
+def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
     """Mitsuba ``path`` at ``spp``, from the cache when the same scene and settings were rendered
-    before. Returns (image, file, whether it came from the cache)."""
-    key = scene_fingerprint(scene_path, {**params, "spp": spp, "max_depth": max_depth, "variant": mi.variant(),
-                                         "mitsuba": mi.__version__})
+    before. Returns (image, file, whether it came from the cache). ``scene_path`` is the scene
+    file, or a name for a scene built in code (whose ``params`` then say all that defines it)."""
+    settings = {**params, "spp": spp, "max_depth": max_depth, "variant": mi.variant(), "mitsuba": mi.__version__}
+    if Path(scene_path).is_file():
+        key = scene_fingerprint(Path(scene_path), settings)
+    else:
+        key = hashlib.sha256(json.dumps([str(scene_path), settings], sort_keys=True, default=str).encode()).hexdigest()
     file = cache_dir() / f"{Path(scene_path).stem}-{key[:16]}.exr"
     if file.is_file():
         return np.array(mi.Bitmap(str(file)), dtype=np.float32)[..., :3], file, True

@@ -1,0 +1,355 @@
+"""Benchmarks: the paper's Tables 3 and 4 (§8), reproduced and extended with accuracy.
+
+For one scene, after warm-up, as medians over ``frames`` repeated frames (one sample per pixel by
+default, the real-time setting) with the backend synchronized, :func:`bench_scene` measures:
+
+- ``raster``: the raster layer alone (``candidates=""``); its raster + lighting stages are the
+  paper's **DR** (deferred rendering time);
+- ``rt-baseline``: ``primary="raytrace"``, every candidate traced: the paper's **RT**;
+- ``hybrid``: raster primaries, every candidate traced: the paper's **Hybrid**; Gain = RT / Hybrid;
+- ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
+  a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
+  frames (``budget.py``), which are warm-up, not measured;
+- ``path@Nspp``: Mitsuba's ``path`` at 1, 2, 4 … spp (the time/error curve), and
+  ``path@equal-time``: the largest spp whose measured time fits in the hybrid's frame time (the
+  paper compares with the Brigade path tracer this way, Table 4);
+
+with the per-stage breakdown of every hybrid frame, and the error of every image against the
+ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
+ΔE2000 (``metrics.py``).
+
+:func:`run` runs one child process per scene (``hybrid bench --single``): each scene gets a fresh
+Dr.Jit state, which frozen trace kernels (``freeze``) need (``trace.py``), and the GPU memory of
+one scene is freed before the next. It then writes the JSON, the tables (Table 3 and Table 4
+layout, beside the paper's figures) and one chart per scene: time per frame (log) against FLIP.
+:func:`scaling` measures hybrid and RT baseline against triangle count (``procedural.py``) and
+resolution.
+"""
+from __future__ import annotations
+
+import json
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+from .compare import ground_truth, render_path
+from .errors import HybridError
+from .metrics import image_error
+from .procedural import procedural_scene, scene_triangles
+from .scene import load_scene
+
+#: the paper's Tables 3 and 4 (ms at 1280×720 on a GTX 570), by the project scene that stands in
+PAPER = {
+    "armadillo_glass": {"scene": "Armadillo", "vertices": 193737, "triangles": 380655, "DR": 3.134, "RT": 25.112,
+                        "Hybrid": 18.518, "Gain": 1.35},
+    "sponza_mirror": {"scene": "Sponza", "vertices": 145173, "triangles": 262187, "DR": 2.227, "RT": 66.667,
+                      "Hybrid": 34.482, "Gain": 1.93},
+    "showcase": {"scene": "Showcase", "vertices": 112603, "triangles": 224440, "DR": 2.336, "RT": 40.0,
+                 "Hybrid": 23.255, "Gain": 1.72},
+    "dining_room": {"scene": "Dining Room", "vertices": 386541, "triangles": 224954, "Brigade": 76.92,
+                    "Hybrid": 28.283},
+}
+FIELDS = ("scene", "name", "variant", "device", "width", "height", "spp", "frames", "vertices", "triangles", "shapes",
+          "ground_truth", "dr_ms", "rt_ms", "hybrid_ms", "gain", "all_candidates_trace_ms", "equal_time",
+          "methods", "command")
+
+
+@dataclass
+class Measurement:
+    """One method on one scene: its median frame time, its error, what it traced."""
+
+    method: str
+    kind: str  # raster | hybrid | rt | path
+    time_ms: float  # median per frame
+    frame_ms: list[float]  # every measured frame
+    flip: float
+    rel_mse: float
+    delta_e2000: float
+    spp: int
+    stages_ms: dict[str, float] = field(default_factory=dict)  # median per stage (hybrid kinds)
+    budget_ms: float | None = None
+    pixels_traced: float | None = None  # median per frame
+    secondary_rays: float | None = None  # median per frame
+
+
+def _scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
+    """A scene file, or ``procedural:TRIANGLES``; returns the scene and its short name."""
+    if spec.startswith("procedural:"):
+        triangles = int(float(spec.split(":", 1)[1]))
+        keys = {k: int(v) for k, v in params.items() if k in ("resx", "resy", "spp", "max_depth")}
+        return procedural_scene(triangles, **keys), f"procedural_{triangles}"
+    # -D applies to the scenes that take it: Mitsuba refuses parameters a file does not use
+    text = Path(spec).read_text(errors="replace") if Path(spec).is_file() else ""
+    return load_scene(spec, **{k: v for k, v in params.items() if f"${k}" in text}), Path(spec).stem
+
+
+def _timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int) -> tuple[np.ndarray, list[float]]:
+    times, image = [], None
+    for r in range(repeats + 1):  # the first compiles
+        start = time.perf_counter()
+        image = render_path(scene, spp, max_depth, seed + r)
+        dr.eval(image)
+        dr.sync_thread()
+        if r:
+            times.append((time.perf_counter() - start) * 1e3)
+    return np.array(image, dtype=np.float32)[..., :3], times
+
+
+def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int = 1, gt_spp: int = 1024,
+                max_path_spp: int = 64, budgets=(0.0, 0.25, 0.5, 0.75), seed: int = 0, freeze: bool = True,
+                accuracy: bool = True, **properties) -> dict:
+    """Every measurement of the module docstring on one scene; ``properties`` are the hybrid
+    integrator's (``max_depth`` is shared with ``path`` and the ground truth). Without
+    ``accuracy`` (a point of a scaling curve): raster, hybrid and RT baseline times only, errors NaN."""
+    import hybrid_integrator as hi
+
+    params = dict(params or {})
+    if frames < 1 or spp < 1 or gt_spp < 1 or max_path_spp < 1:
+        raise HybridError("bench: frames, spp, gt_spp and max_path_spp must be >= 1")
+    scene, name = _scene(spec, params)
+    max_depth = int(properties.get("max_depth", -1))
+    reference, gt_file, cached = None, None, False
+    if accuracy:
+        reference, gt_file, cached = ground_truth(spec if not spec.startswith("procedural:") else name, scene, params,
+                                                  gt_spp, max_depth)
+    sensor = scene.sensors()[0]
+    camera = mi.ScalarTransform4f(np.array(mi.traverse(sensor)["to_world"].matrix).reshape(4, 4))
+    rows: list[Measurement] = []
+
+    def hybrid(method: str, kind: str, warmup: int, **extra) -> Measurement:
+        props = {"freeze": freeze, **properties, **extra}
+        results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=spp, seed=seed, **props)[warmup:]
+        error = _error(np.array(results[-1].image, dtype=np.float32)[..., :3], reference)
+        stats = [r.stats for r in results]
+        row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
+                          [s.times_ms["total"] for s in stats], error.flip, error.rel_mse, error.delta_e2000, spp,
+                          {k: statistics.median(s.times_ms[k] for s in stats) for k in stats[0].times_ms},
+                          extra.get("budget_ms"), statistics.median(s.pixels_traced for s in stats),
+                          statistics.median(s.secondary_rays for s in stats))
+        rows.append(row)
+        return row
+
+    # warm-up: three frames (the first compiles, the second may record frozen kernels again with the
+    # seed made opaque); a budgeted run's first three frames are the cost model's probes
+    raster = hybrid("raster", "raster", 3, candidates="")
+    everything = hybrid("hybrid", "hybrid", 3)
+    rt = hybrid("rt-baseline", "rt", 3, primary="raytrace")
+    trace_all = everything.stages_ms["trace"]
+    for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
+        hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))
+
+    path_spp, path_times = [], {}
+    s = 1
+    while accuracy and s <= max_path_spp:
+        image, times = _timed_path(scene, s, max_depth, seed, repeats=min(frames, 3))
+        error, _ = image_error(image, reference)
+        rows.append(Measurement(f"path@{s}spp", "path", statistics.median(times), times, error.flip, error.rel_mse,
+                                error.delta_e2000, s))
+        path_spp.append(s)
+        path_times[s] = statistics.median(times)
+        s *= 2
+    equal_time = None
+    if accuracy:  # equal time: the spp whose time fits the hybrid's frame, from the measured time per spp
+        per_spp = max(path_times[path_spp[-1]] / path_spp[-1], 1e-9)
+        equal_spp = max(1, int(everything.time_ms / per_spp))
+        image, times = _timed_path(scene, equal_spp, max_depth, seed, repeats=min(frames, 3))
+        error, _ = image_error(image, reference)
+        rows.append(Measurement("path@equal-time", "path", statistics.median(times), times, error.flip, error.rel_mse,
+                                error.delta_e2000, equal_spp))
+        equal_time = {"spp": equal_spp, "time_ms": rows[-1].time_ms, "flip": rows[-1].flip}
+
+    film = sensor.film().size()
+    meshes = [sh for sh in scene.shapes() if isinstance(sh, mi.Mesh)]
+    return {
+        "scene": spec, "name": name, "variant": mi.variant(), "device": _device(), "width": int(film[0]),
+        "height": int(film[1]), "spp": spp, "frames": frames,
+        "vertices": sum(int(m.vertex_count()) for m in meshes), "triangles": scene_triangles(scene),
+        "shapes": len(scene.shapes()),
+        "ground_truth": {"integrator": "path", "spp": gt_spp, "max_depth": max_depth,
+                         "file": None if gt_file is None else str(gt_file), "cached": cached},
+        "dr_ms": raster.stages_ms["raster"] + raster.stages_ms["lighting"], "rt_ms": rt.time_ms,
+        "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "all_candidates_trace_ms": trace_all,
+        "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
+    }
+
+
+def _error(image: np.ndarray, reference: np.ndarray | None):
+    if reference is None:
+        return _NO_ERROR
+    return image_error(image, reference)[0]
+
+
+class _NoError:
+    flip = rel_mse = delta_e2000 = float("nan")
+
+
+_NO_ERROR = _NoError()
+
+
+def _device() -> str:
+    from .raster.context import renderer_name
+
+    return f"{platform.node()}: GL {renderer_name()}, {platform.processor() or platform.machine()}"
+
+
+# --- running scenes in child processes, tables and charts ---------------------------------------
+
+def _child(spec: str, out: Path, options: list[str]) -> dict:
+    out.parent.mkdir(parents=True, exist_ok=True)
+    cmd = [sys.executable, "-m", "hybrid_integrator.cli", "bench", "--single", str(out), *options, spec]
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise HybridError(f"bench of {spec} failed (exit {done.returncode}):\n{done.stderr[-3000:]}")
+    return json.loads(out.read_text())
+
+
+def run(specs: list[str], out_dir: Path, options: list[str], command: str) -> list[dict]:
+    """Bench each scene in its own process (see module docstring); write ``out_dir/NAME.json``,
+    ``bench.json``, ``bench.md`` and ``NAME.png``."""
+    from tqdm import tqdm
+
+    reports = []
+    for spec in tqdm(specs, desc="scenes", unit="scene"):
+        name = spec.replace(":", "_") if spec.startswith("procedural:") else Path(spec).stem
+        report = _child(spec, out_dir / f"{name}.json", options)
+        report["command"] = command
+        (out_dir / f"{name}.json").write_text(json.dumps(report, indent=2))
+        chart(report, out_dir / f"{name}.png")
+        reports.append(report)
+    (out_dir / "bench.json").write_text(json.dumps(reports, indent=2))
+    (out_dir / "bench.md").write_text(tables(reports, [command]) + "\n")
+    return reports
+
+
+def tables(reports: list[dict], commands: list[str]) -> str:
+    """Table 3 and Table 4 layouts beside the paper's figures, then every method per scene."""
+    first = reports[0]
+    lines = [f"# Benchmarks: {first['variant']}, {first['width']}×{first['height']}, {first['spp']} spp per frame",
+             "", *(f"Command: `{c}`  " for c in commands), f"Machine: {first['device']}  ",
+             f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
+             f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
+             "## Table 3 layout: hybrid against pure ray tracing", "",
+             "| scene | vertices | triangles | DR | RT | Hybrid | Gain | paper (GTX 570): DR / RT / Hybrid / Gain |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in reports:
+        p = PAPER.get(r["name"], {})
+        paper = f"{p['DR']} / {p['RT']} / {p['Hybrid']} / {p['Gain']}" if "RT" in p else "–"
+        lines.append(f"| {r['name']} | {r['vertices']:,} | {r['triangles']:,} | {r['dr_ms']:.1f} | {r['rt_ms']:.1f} | "
+                     f"{r['hybrid_ms']:.1f} | {r['gain']:.2f} | {paper} |")
+    lines += ["", "## Table 4 layout: hybrid against a path tracer at equal time", "",
+              "| scene | Hybrid ms | Hybrid FLIP | path spp at equal time | path ms | path FLIP | paper: Brigade / Hybrid ms |",
+              "|---|---|---|---|---|---|---|"]
+    for r in reports:
+        h = next(m for m in r["methods"] if m["method"] == "hybrid")
+        p = PAPER.get(r["name"], {})
+        paper = f"{p['Brigade']} / {p['Hybrid']}" if "Brigade" in p else "–"
+        lines.append(f"| {r['name']} | {h['time_ms']:.1f} | {h['flip']:.4f} | {r['equal_time']['spp']} | "
+                     f"{r['equal_time']['time_ms']:.1f} | {r['equal_time']['flip']:.4f} | {paper} |")
+    for r in reports:
+        lines += ["", f"## {r['name']}: every method", "",
+                  "| method | ms per frame | FLIP | rel. MSE | ΔE2000 | spp | pixels traced | secondary rays | stages: raster / lighting / select / trace / compose |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for m in r["methods"]:
+            st = m["stages_ms"]
+            stages = " / ".join(f"{st[k]:.1f}" for k in ("raster", "lighting", "select", "trace", "compose")) if st else ""
+            traced = "" if m["pixels_traced"] is None else f"{m['pixels_traced']:,.0f}"
+            rays = "" if m["secondary_rays"] is None else f"{m['secondary_rays']:,.0f}"
+            lines.append(f"| {m['method']} | {m['time_ms']:.1f} | {m['flip']:.4f} | {m['rel_mse']:.4f} | "
+                         f"{m['delta_e2000']:.2f} | {m['spp']} | {traced} | {rays} | {stages} |")
+    return "\n".join(lines)
+
+
+def chart(report: dict, path: Path) -> None:
+    """Time per frame (log) against FLIP: one point per method, the budgets and path's spp as curves."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    methods = report["methods"]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    curves = {"hybrid, budget 0–75 %": [m for m in methods if m["method"].startswith("hybrid@")],
+              "Mitsuba path, 1…N spp": [m for m in methods if m["method"].startswith("path@") and m["method"][5].isdigit()]}
+    for label, ms in curves.items():
+        ax.plot([m["time_ms"] for m in ms], [m["flip"] for m in ms], "o-", label=label)
+        for m in ms:
+            ax.annotate(m["method"].split("@")[1], (m["time_ms"], m["flip"]), fontsize=7, xytext=(3, 3),
+                        textcoords="offset points")
+    for name, marker in (("raster", "s"), ("hybrid", "D"), ("rt-baseline", "^"), ("path@equal-time", "*")):
+        m = next(x for x in methods if x["method"] == name)
+        ax.plot([m["time_ms"]], [m["flip"]], marker, markersize=9, label=f"{name} ({m['spp']} spp)" if name.startswith("path") else name)
+    ax.set_xscale("log")
+    ax.set_xlabel("time per frame (ms, log)")
+    ax.set_ylabel("FLIP against the ground truth")
+    ax.set_title(f"{report['name']}: {report['variant']}, {report['width']}×{report['height']}, {report['spp']} spp/frame",
+                 fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def scaling(axis: str, values: list[str], out: Path, options: list[str], command: str) -> list[dict]:
+    """Hybrid (all candidates) and RT baseline time against triangle count (``procedural:N`` at the
+    given resolution) or resolution (``WxH`` on ``procedural:1000000``), one child process per
+    point; writes ``out.json``, ``out.md``, ``out.png`` (:func:`scaling_report`)."""
+    import tempfile
+
+    from tqdm import tqdm
+
+    reports = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for value in tqdm(values, desc=f"scaling by {axis}", unit="point"):
+            if axis == "triangles":
+                spec, extra = f"procedural:{value}", []
+            else:
+                w, h = value.lower().split("x")
+                spec, extra = "procedural:1000000", ["-D", f"resx={w}", "-D", f"resy={h}"]
+            reports.append(_child(spec, Path(tmp) / f"{value}.json", ["--scaling-point", *options, *extra]))
+    return scaling_report(axis, reports, out, command)
+
+
+def scaling_report(axis: str, reports: list[dict], out: Path, command: str) -> list[dict]:
+    """The points of a scaling curve (one ``bench_scene`` report each) as JSON, table and chart."""
+    points = [{k: r[k] for k in ("triangles", "width", "height", "hybrid_ms", "rt_ms", "gain", "dr_ms",
+                                 "all_candidates_trace_ms")} for r in reports]
+    first = reports[0]
+    result = {"axis": axis, "variant": first["variant"], "device": first["device"], "command": command, "points": points}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.with_suffix(".json").write_text(json.dumps(result, indent=2))
+    x = [p["triangles"] if axis == "triangles" else p["width"] * p["height"] for p in points]
+    lines = [f"# Scaling with {axis}: {first['variant']}", "", f"Command: `{command}`  ", f"Machine: {first['device']}", "",
+             "| triangles | resolution | DR ms | hybrid ms | RT baseline ms | gain (RT / hybrid) | all-candidates trace ms |",
+             "|---|---|---|---|---|---|---|"]
+    for p in points:
+        lines.append(f"| {p['triangles']:,} | {p['width']}×{p['height']} | {p['dr_ms']:.1f} | {p['hybrid_ms']:.1f} | "
+                     f"{p['rt_ms']:.1f} | {p['gain']:.2f} | {p['all_candidates_trace_ms']:.1f} |")
+    out.with_suffix(".md").write_text("\n".join(lines) + "\n")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for key, label in (("hybrid_ms", "hybrid (all candidates)"), ("rt_ms", "RT baseline"), ("dr_ms", "DR (raster + lighting)")):
+        ax.plot(x, [p[key] for p in points], "o-", label=label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("triangles" if axis == "triangles" else "pixels")
+    ax.set_ylabel("ms per frame")
+    ax.set_title(f"time against {axis} ({first['variant']})", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out.with_suffix(".png"), dpi=100)
+    plt.close(fig)
+    return points

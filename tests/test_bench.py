@@ -1,0 +1,63 @@
+"""``hybrid bench`` end to end on a tiny scene: every field of the report is there and sane, and
+the tables and charts are written (the measurements themselves are benchmarks, in docs/)."""
+import json
+import math
+import subprocess
+import sys
+from dataclasses import fields
+
+import pytest
+
+from conftest import DEFAULT_SCENE
+from hybrid_integrator.bench import FIELDS, Measurement
+
+TINY = ["-D", "resx=48", "-D", "resy=32", "--frames", "1", "--gt-spp", "8", "--max-path-spp", "2", "--budgets", "0", "0.5"]
+
+
+def bench(*args, cwd=None):
+    done = subprocess.run([sys.executable, "-m", "hybrid_integrator.cli", "bench", *args], capture_output=True, text=True,
+                          cwd=cwd)
+    return done
+
+
+def test_bench_report_has_every_field(tmp_path):
+    done = bench(str(DEFAULT_SCENE), *TINY, "-o", str(tmp_path))
+    assert done.returncode == 0, done.stderr[-2000:]
+    (report,) = json.loads((tmp_path / "bench.json").read_text())
+    assert set(FIELDS) <= set(report)
+    names = [m["method"] for m in report["methods"]]
+    assert names == ["raster", "hybrid", "rt-baseline", "hybrid@0%", "hybrid@50%", "path@1spp", "path@2spp",
+                     "path@equal-time"]
+    for m in report["methods"]:
+        assert set(m) == {f.name for f in fields(Measurement)}
+        assert m["time_ms"] > 0 and 0 < m["flip"] < 1 and math.isfinite(m["rel_mse"]) and m["delta_e2000"] >= 0
+    hybrid = next(m for m in report["methods"] if m["method"] == "hybrid")
+    assert set(hybrid["stages_ms"]) >= {"raster", "lighting", "select", "trace", "compose", "total"}
+    assert hybrid["secondary_rays"] > 0
+    # the baseline traces the same pixels from camera rays: same image, same error
+    rt = next(m for m in report["methods"] if m["method"] == "rt-baseline")
+    assert rt["pixels_traced"] == hybrid["pixels_traced"] and rt["flip"] == pytest.approx(hybrid["flip"], abs=2e-3)
+    assert report["gain"] == pytest.approx(report["rt_ms"] / report["hybrid_ms"])
+    assert report["triangles"] == 10264 and report["width"] == 48 and report["height"] == 32
+    assert report["command"].startswith("hybrid bench ")
+    assert (tmp_path / "default.png").stat().st_size > 0 and "Table 3 layout" in (tmp_path / "bench.md").read_text()
+
+
+def test_bench_scaling_by_triangles(tmp_path):
+    out = tmp_path / "triangles"
+    done = bench("--scaling", "triangles", "--values", "2000", "8000", "-D", "resx=48", "-D", "resy=32",
+                 "--frames", "1", "-o", str(out))
+    assert done.returncode == 0, done.stderr[-2000:]
+    result = json.loads(out.with_suffix(".json").read_text())
+    tris = [p["triangles"] for p in result["points"]]
+    assert tris[0] < tris[1] and abs(tris[1] - 8000) < 0.1 * 8000
+    assert all(p["hybrid_ms"] > 0 and p["rt_ms"] > 0 for p in result["points"])
+    assert out.with_suffix(".png").is_file() and out.with_suffix(".md").is_file()
+
+
+@pytest.mark.parametrize("args, message", [(["procedural:10"], "triangles=10 must lie in"),
+                                           (["--scaling", "triangles"], "needs --values"),
+                                           ([], "at least one scene")])
+def test_bench_bad_input(tmp_path, args, message):
+    done = bench(*args, "--frames", "1", "-o", str(tmp_path / "x"))
+    assert done.returncode != 0 and message in done.stderr
