@@ -43,7 +43,12 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     camera = RasterCamera.from_sensor(sensor)
     raster = rasterizer(scene)
     vis = raster.draw(camera, offset)
-    targets = compute_aovs(scene, primary_hits(scene, sensor, camera, vis), vis.depth.shape, aovs) if aovs else {}
+    if aovs:
+        words, distance = vis.words()
+        hits = primary_hits(scene, sensor, camera, mi.UInt32(words), mi.Float(distance), vis.offset, raster.is_proxy)
+        targets = compute_aovs(scene, hits, vis.depth.shape, aovs)
+    else:
+        targets = {}
     return GBuffer(**vars(vis), **targets, shape_ids=tuple(s.name for s in raster.shapes))
 
 

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import drjit as dr
 import mitsuba as mi
 import numpy as np
 
@@ -104,22 +105,49 @@ class ObjectRelevance:
     relevance: float  # R = S·I + V, eq. 3
 
 
-def object_relevance(shape_index: np.ndarray, depth: np.ndarray, kinds: list[tuple[str, ...]], names: list[str],
+@dataclass(frozen=True)
+class Coverage:
+    """What one visibility buffer says about each shape (indexed like ``scene.shapes()``): its
+    pixels, the sums of their row and column centres and of their depths."""
+
+    width: int
+    height: int
+    pixels: np.ndarray
+    row_sum: np.ndarray
+    col_sum: np.ndarray
+    depth_sum: np.ndarray
+    mean_depth: float  # over every hit pixel
+
+    @property
+    def any(self) -> bool:
+        return bool(self.pixels.sum() > 0)
+
+
+def coverage(shape_index: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_shapes: int) -> Coverage:
+    """Per-shape sums over a visibility buffer (pixels in row-major order), reduced on the device
+    (``dr.scatter_reduce``), so only a few numbers per shape reach the host."""
+    index = dr.arange(mi.UInt32, width * height)
+    row, col = mi.Float(index // width) + 0.5, mi.Float(index % width) + 0.5
+    sums = [dr.zeros(mi.Float, max(n_shapes, 1)) for _ in range(4)]
+    for target, value in zip(sums, (mi.Float(1.0), row, col, depth)):
+        dr.scatter_reduce(dr.ReduceOp.Add, target, value, shape_index, valid)
+    hits, total_depth = dr.count(valid), dr.sum(dr.select(valid, depth, 0.0))
+    dr.eval(*sums, hits, total_depth)
+    pixels, row_sum, col_sum, depth_sum = (np.array(v, dtype=np.float64)[:n_shapes] for v in sums)
+    n_hits = int(dr.ravel(hits)[0])
+    mean_depth = float(dr.ravel(total_depth)[0]) / n_hits if n_hits else 0.0
+    return Coverage(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum, mean_depth)
+
+
+def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[str],
                      effects: tuple[str, ...], selected_last: set[int], importance: float,
                      rays_per_pixel: dict[int, dict[str, float]]) -> list[ObjectRelevance]:
-    """Eq. 1–3 for every candidate visible in a visibility buffer (``shape_index``, ``depth``:
-    H×W, -1 / inf for background). ``kinds`` are intersected with the integrator's ``effects``."""
-    h, w = shape_index.shape
-    hit = shape_index >= 0
-    if not hit.any():
+    """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`).
+    ``kinds`` are intersected with the integrator's ``effects``."""
+    if not cov.any:
         return []
-    counts = np.bincount(shape_index[hit], minlength=len(kinds))
-    rows, cols = np.nonzero(hit)
-    index = shape_index[hit]
-    sum_r = np.bincount(index, weights=rows + 0.5, minlength=len(kinds))
-    sum_c = np.bincount(index, weights=cols + 0.5, minlength=len(kinds))
-    sum_d = np.bincount(index, weights=depth[hit].astype(np.float64), minlength=len(kinds))
-    mean_depth = float(depth[hit].mean())
+    w, h = cov.width, cov.height
+    counts, sum_r, sum_c, sum_d, mean_depth = cov.pixels, cov.row_sum, cov.col_sum, cov.depth_sum, cov.mean_depth
     half_diagonal = 0.5 * np.hypot(w, h)
     out = []
     for k, n in enumerate(counts):

@@ -24,11 +24,11 @@ from .compose import compose
 from .errors import HybridError
 from .primary import PrimaryHits, camera_rays, primary_hits, shape_indices
 from .raster.camera import RasterCamera, resolve_sensor
-from .raster.gbuffer import check_aovs, compute_aovs
+from .raster.gbuffer import aov_values, check_aovs, to_numpy
 from .raster.lighting import INPUTS, DeferredLighting
 from .raster.visibility import Rasterizer
 from .budget import FramePlan, FrameState, plan_frame
-from .heuristic import candidate_kinds, object_relevance
+from .heuristic import candidate_kinds, coverage, object_relevance
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
 from .selection_graph import SELECTORS
 from .trace import RAY_KINDS, TraceCounts, trace_effects
@@ -185,7 +185,9 @@ class HybridRenderer:
             offset = (float(offset[0]), float(offset[1]))
             # 1. primary visibility: the raster (paper §3.1) or camera rays (the baseline, §8)
             if settings.primary == "raster":
-                hits = primary_hits(scene, sensor, camera, self.raster.draw(camera, offset))
+                words, distance = self.raster.read_targets(self.raster.render(camera, offset))
+                hits = primary_hits(scene, sensor, camera, mi.UInt32(words), mi.Float(distance), offset,
+                                    self.raster.is_proxy)
                 stats.proxy_refinements += hits.proxy_refined
                 stats.edge_refinements += hits.edge_refined
             else:
@@ -197,13 +199,12 @@ class HybridRenderer:
             clock.lap("raster", hits.ray, hits.si, hits.shape_index, hits.valid)  # all of it: Dr.Jit is lazy
 
             # 2. deferred lighting: the raster layer (§3.1, Fig. 1g)
-            targets = compute_aovs(scene, hits, (h, w), tuple(dict.fromkeys(tuple(INPUTS) + aovs)))
+            targets = aov_values(scene, hits, tuple(dict.fromkeys(tuple(INPUTS) + aovs)))
             if settings.hide_emitters:
-                targets["emission"][:] = 0.0
-            raster_rgb = self.lighting.shade(targets, np.array(hits.valid).reshape(h, w), camera.eye).reshape(-1, 3)
-            raster = mi.Color3f(*(mi.Float(raster_rgb[:, k]) for k in range(3)))
-            if sample == 0:
-                first_targets = {k: targets[k] for k in aovs}
+                targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
+            raster = self.lighting.shade(targets, hits.valid, camera.eye)
+            if sample == 0 and aovs:
+                first_targets = to_numpy({k: targets[k] for k in aovs}, (h, w))
             clock.lap("lighting", raster)
 
             # 3. selection (§4): planned once per frame, from its first pass's primary hits
@@ -272,11 +273,10 @@ class HybridRenderer:
     def _plan(self, hits: PrimaryHits, camera: RasterCamera, kinds, names, settings: HybridSettings,
               state: FrameState, spp: int) -> FramePlan:
         """Eq. 1–3 from this pass's primary hits, then the selection within the budget."""
-        h, w = camera.height, camera.width
-        shape_index = np.where(np.array(hits.valid), np.array(hits.shape_index, dtype=np.int64), -1).reshape(h, w)
-        depth = np.array(dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))).reshape(h, w)
-        objects = object_relevance(shape_index, depth, kinds, names, settings.effects, state.selected,
-                                   settings.importance, state.rays_per_pixel)
+        depth = dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))
+        cov = coverage(hits.shape_index, hits.valid, depth, camera.width, camera.height, len(names))
+        objects = object_relevance(cov, kinds, names, settings.effects, state.selected, settings.importance,
+                                   state.rays_per_pixel)
         return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model,
                           overhead_ms=state.overhead_ms)
 

@@ -28,7 +28,6 @@ import mitsuba as mi
 import numpy as np
 
 from .raster.camera import RasterCamera
-from .raster.visibility import VisibilityBuffer
 
 
 @dataclass
@@ -71,40 +70,45 @@ def shape_indices(scene: mi.Scene, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UIn
     return dr.gather(mi.UInt32, mi.UInt32(table), dr.reinterpret_array(mi.UInt32, shape), valid)
 
 
-def silhouettes(shape_index: np.ndarray) -> np.ndarray:
-    """Pixels with a 4-neighbour that shows another shape (or the background)."""
-    edge = np.zeros(shape_index.shape, dtype=bool)
-    horizontal = shape_index[:, 1:] != shape_index[:, :-1]
-    vertical = shape_index[1:, :] != shape_index[:-1, :]
-    edge[:, 1:] |= horizontal
-    edge[:, :-1] |= horizontal
-    edge[1:, :] |= vertical
-    edge[:-1, :] |= vertical
+def silhouettes(shape_id: mi.UInt32, width: int, height: int) -> mi.Bool:
+    """Pixels with a 4-neighbour inside the image that shows another shape (or the background);
+    ``shape_id`` per pixel, row-major."""
+    i = dr.arange(mi.UInt32, width * height)
+    x, y = i % width, i // width
+    edge = mi.Bool(False)
+    for inside, j in ((x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)):
+        edge |= inside & (dr.gather(mi.UInt32, shape_id, j, inside) != shape_id)
     return edge
 
 
-def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, vis: VisibilityBuffer) -> PrimaryHits:
-    """Rebuild Mitsuba's surface interactions from the visibility buffer ``vis``."""
-    ray = camera_rays(sensor, camera, vis.offset)
-    shape_index = mi.UInt32(np.maximum(vis.shape_index, 0).ravel().astype(np.uint32))
-    edge = silhouettes(vis.shape_index) & ~vis.proxy
-    refine = (vis.proxy | edge).ravel()
-    raster_hit = mi.Bool(vis.hit.ravel() & ~refine)
+def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, words: mi.UInt32, distance: mi.Float,
+                 offset: tuple[float, float], is_proxy: np.ndarray) -> PrimaryHits:
+    """Rebuild Mitsuba's surface interactions from the raster targets (``Rasterizer.read_targets``,
+    uploaded as they are), decoded on the device; ``is_proxy`` flags each scene shape drawn as a
+    proxy. A :class:`VisibilityBuffer` gives the same targets through ``vis.words()``."""
+    ray = camera_rays(sensor, camera, offset)
+    i = dr.arange(mi.UInt32, camera.width * camera.height)
+    shape_id = dr.gather(mi.UInt32, words, 4 * i)  # 0: background
+    hit = shape_id > 0
+    shape_index = dr.select(hit, shape_id - 1, 0)
+    proxy = hit & dr.gather(mi.Bool, mi.Bool(is_proxy), shape_index, hit) if is_proxy.size else mi.Bool(False)
+    edge = silhouettes(shape_id, camera.width, camera.height) & ~proxy
+    refine = proxy | edge
+    raster_hit = hit & ~refine
     # Mitsuba's camera rays start on the near plane; the raster measures from the eye
     near_t = dr.norm(ray.o - mi.Point3f(*(float(c) for c in camera.eye)))
 
     pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))
-    pi.t = dr.select(raster_hit, mi.Float(vis.depth.ravel()) - near_t, dr.inf)
-    pi.prim_uv = mi.Point2f(mi.Float(vis.bary[..., 0].ravel()), mi.Float(vis.bary[..., 1].ravel()))
-    pi.prim_index = mi.UInt32(vis.prim_index.ravel())
+    pi.t = dr.select(raster_hit, distance - near_t, dr.inf)
+    pi.prim_uv = mi.Point2f(*(dr.reinterpret_array(mi.Float, dr.gather(mi.UInt32, words, 4 * i + k)) for k in (2, 3)))
+    pi.prim_index = dr.gather(mi.UInt32, words, 4 * i + 1)
     pi.shape_index = shape_index
     pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), shape_index, raster_hit)
     pi.valid = raster_hit
-
-    if refine.any():
-        retrace = mi.Bool(refine)
-        pi = dr.select(retrace, scene.ray_intersect_preliminary(ray, False, retrace), pi)
+    pi = dr.select(refine, scene.ray_intersect_preliminary(ray, False, refine), pi)
     valid = pi.is_valid()
     si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
+    counts = dr.count(proxy), dr.count(edge)
+    dr.eval(*counts)
     return PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, pi.shape, valid), valid=valid,
-                       proxy_refined=int(vis.proxy.sum()), edge_refined=int(edge.sum()))
+                       proxy_refined=int(dr.ravel(counts[0])[0]), edge_refined=int(dr.ravel(counts[1])[0]))

@@ -9,8 +9,16 @@ import pytest
 
 import hybrid_integrator as hi
 from hybrid_integrator.budget import CostModel, plan_frame
-from hybrid_integrator.heuristic import candidate_kinds, object_relevance
+from hybrid_integrator.heuristic import candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
+
+
+def buffer_coverage(shape_index: np.ndarray, depth: np.ndarray, n_shapes: int = 2):
+    """``heuristic.coverage`` of an H×W visibility buffer given as numpy (-1: background)."""
+    h, w = shape_index.shape
+    valid = shape_index.ravel() >= 0
+    return coverage(mi.UInt32(np.maximum(shape_index.ravel(), 0).astype(np.uint32)), mi.Bool(valid),
+                    mi.Float(np.where(valid, depth.ravel(), 0.0).astype(np.float32)), w, h, n_shapes)
 
 
 def synthetic_buffer():
@@ -20,13 +28,13 @@ def synthetic_buffer():
     depth = np.full((8, 8), np.inf, dtype=np.float32)
     shape_index[3:5, 3:5], depth[3:5, 3:5] = 0, 2.0
     shape_index[0:2, 0:4], depth[0:2, 0:4] = 1, 4.0
-    return shape_index, depth
+    return buffer_coverage(shape_index, depth)
 
 
 def test_equations_1_to_3_and_their_normalization():
-    shape_index, depth = synthetic_buffer()
+    cov = synthetic_buffer()
     kinds = [("shadow", "reflection"), ("shadow",)]
-    objects = {o.index: o for o in object_relevance(shape_index, depth, kinds, ["a", "b"], ("shadow", "reflection"),
+    objects = {o.index: o for o in object_relevance(cov, kinds, ["a", "b"], ("shadow", "reflection"),
                                                      selected_last={1}, importance=0.5, rays_per_pixel={})}
     a, b = objects[0], objects[1]
     mean_depth = (4 * 2.0 + 8 * 4.0) / 12
@@ -48,13 +56,13 @@ def test_equations_1_to_3_and_their_normalization():
 
 
 def test_learnt_rays_and_effects_filter():
-    shape_index, depth = synthetic_buffer()
-    objects = object_relevance(shape_index, depth, [("shadow", "refraction"), ("reflection",)], ["a", "b"],
+    cov = synthetic_buffer()
+    objects = object_relevance(cov, [("shadow", "refraction"), ("reflection",)], ["a", "b"],
                                ("shadow",), set(), 0.0, rays_per_pixel={0: {"shadow": 0.5}})
     assert [o.index for o in objects] == [0]  # b deserves only reflection, which is off
     assert objects[0].rays == {"shadow": 2.0}  # 4 pixels × 0.5 learnt
-    assert object_relevance(-np.ones((4, 4), np.int64), np.full((4, 4), np.inf), [("shadow",)], ["a"], ("shadow",),
-                            set(), 0.0, {}) == []
+    empty = buffer_coverage(-np.ones((4, 4), np.int64), np.full((4, 4), np.inf), 1)
+    assert object_relevance(empty, [("shadow",)], ["a"], ("shadow",), set(), 0.0, {}) == []
 
 
 def test_candidate_parser():
@@ -89,8 +97,8 @@ def test_cost_model_learns_per_kind_rates():
 
 
 def test_plan_fits_the_budget():
-    shape_index, depth = synthetic_buffer()
-    objects = object_relevance(shape_index, depth, [("shadow",), ("shadow",)], ["a", "b"], ("shadow",), set(), 0.0, {})
+    cov = synthetic_buffer()
+    objects = object_relevance(cov, [("shadow",), ("shadow",)], ["a", "b"], ("shadow",), set(), 0.0, {})
     model = CostModel(rates=dict.fromkeys(("shadow", "reflection", "refraction", "indirect"), 1.0), launch_ms=0.5)
     probe = plan_frame(objects, 2, "greedy", 100.0, 1, model)  # not calibrated yet: the most relevant only
     assert probe.traced == {max(objects, key=lambda o: o.relevance).index}

@@ -82,8 +82,9 @@ def check_aovs(aovs) -> tuple[str, ...]:
     return names
 
 
-def compute_aovs(scene: mi.Scene, hits: PrimaryHits, shape: tuple[int, int], aovs: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """Evaluate the requested targets at the primary hits (one per pixel of an image of ``shape``)."""
+def aov_values(scene: mi.Scene, hits: PrimaryHits, aovs: tuple[str, ...]) -> dict[str, list[mi.Float]]:
+    """The requested targets at the primary hits, per pixel, as Dr.Jit arrays (one per channel),
+    left on the device for the lighting stage."""
     ray, si, valid = hits.ray, hits.si, hits.valid
     bsdf = si.bsdf(ray)
 
@@ -109,10 +110,20 @@ def compute_aovs(scene: mi.Scene, hits: PrimaryHits, shape: tuple[int, int], aov
     if "emission" in aovs:  # background pixels keep the environment's radiance
         emitted = si.emitter(scene).eval(si)
         out["emission"] = [dr.select(dr.isfinite(emitted[k]), emitted[k], 0.0) for k in range(3)]
-    channels = [c for value in out.values() for c in value]
+    return out
+
+
+def to_numpy(values: dict[str, list[mi.Float]], shape: tuple[int, int]) -> dict[str, np.ndarray]:
+    """Targets from :func:`aov_values` as (H, W, C) float32 images."""
+    channels = [c for value in values.values() for c in value]
     dr.eval(*channels)
     return {name: np.stack([np.array(c, dtype=np.float32) for c in value], axis=-1).reshape(*shape, -1)
-            for name, value in out.items()}
+            for name, value in values.items()}
+
+
+def compute_aovs(scene: mi.Scene, hits: PrimaryHits, shape: tuple[int, int], aovs: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """Evaluate the requested targets at the primary hits (one per pixel of an image of ``shape``)."""
+    return to_numpy(aov_values(scene, hits, aovs), shape)
 
 
 def _lobe_weight(bsdf: mi.BSDFPtr, si: mi.SurfaceInteraction3f, valid: mi.Bool, lobes) -> mi.Color3f:

@@ -2,7 +2,9 @@
 
 Sabino et al. shade every visible pixel once, in a GLSL pass over the G-buffer, with the direct
 light of the scene's lights and no visibility test: that image is what a pixel shows when the ray
-tracer does not touch it (§5). Here the lights are read from the Mitsuba scene:
+tracer does not touch it (§5). Here the same pass is a Dr.Jit kernel over the G-buffer targets
+(``gbuffer.aov_values``), which stay on the device where the ray tracer reads them: one loop over
+the light table per pixel, compiled once per scene. The lights are read from the Mitsuba scene:
 
 - ``point`` and ``spot`` (with Mitsuba's cutoff/beam-width fall-off), ``directional``: exact,
   unshadowed;
@@ -19,16 +21,13 @@ the G-buffer's roughness), the classic deferred-shading model; emission comes fr
 """
 from __future__ import annotations
 
-import importlib.resources
 from dataclasses import dataclass
 
 import drjit as dr
 import mitsuba as mi
-import moderngl
 import numpy as np
 
 from .camera import transform_matrix
-from .context import gl_context
 
 AREA_SAMPLES = 16
 AMBIENT_DIRECTIONS = 256
@@ -116,56 +115,61 @@ def _average_radiance(emitter: mi.Emitter) -> np.ndarray:
     return np.array(emitter.eval(si)).reshape(3, -1).mean(axis=1) if dr.width(si.wi) else np.zeros(3)
 
 
-def _shader(name: str) -> str:
-    return importlib.resources.files(__package__).joinpath("shaders", name).read_text()
-
-
 #: the G-buffer targets the lighting pass reads, and their component counts
 INPUTS = {"position": 3, "normal": 3, "albedo": 3, "specular": 3, "optical": 4, "emission": 3}
 
 
 class DeferredLighting:
-    """The GLSL lighting pass of one scene: its lights are read and uploaded once."""
+    """The lighting pass of one scene: its lights are read once into a table on the device.
+
+    Light ``k`` is three rows of 4 floats (``RasterLights.table``): position and kind
+    (0 isotropic point, 1 spot, 2 area sample, 3 directional); axis (spot axis, area normal,
+    directional travel direction) and the cosine of the spot cutoff; intensity (W/sr; area samples:
+    radiance × area share; directional: irradiance) and the cosine of the spot beam width."""
 
     def __init__(self, scene: mi.Scene):
-        self.ctx = gl_context()
         self.lights = scene_lights(scene)
-        self.program = self.ctx.program(vertex_shader=_shader("fullscreen.vert"), fragment_shader=_shader("lighting.frag"))
-        count = max(self.lights.count, 1)
-        table = np.zeros((3, count, 4), np.float32)
-        table[:, :self.lights.count] = self.lights.table
-        self._light_texture = self.ctx.texture((count, 3), 4, table.tobytes(), dtype="f4")
-        self._light_texture.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self._vao = self.ctx.vertex_array(self.program, [])
-        self._targets: dict[tuple[int, int], tuple[dict[str, moderngl.Texture], moderngl.Framebuffer]] = {}
+        self._rows = [mi.Float(self.lights.table[r].ravel()) for r in range(3)]
+        self._ambient = mi.Color3f(*(float(c) for c in self.lights.ambient))
 
-    def _resources(self, width: int, height: int):
-        key = (width, height)
-        if key not in self._targets:
-            textures = {name: self.ctx.texture(key, 4 if n == 4 else 3, dtype="f4") for name, n in INPUTS.items()}
-            textures["hit"] = self.ctx.texture(key, 1, dtype="f4")
-            for tex in textures.values():
-                tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            self._targets[key] = (textures, self.ctx.framebuffer([self.ctx.texture(key, 4, dtype="f4")]))
-        return self._targets[key]
+    def shade(self, gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, eye) -> mi.Color3f:
+        """The raster layer from G-buffer targets (``INPUTS``, per pixel) and the hit mask."""
+        p = mi.Point3f(*gbuffer["position"])
+        n = dr.normalize(mi.Vector3f(*gbuffer["normal"]))
+        albedo, specular, emission = (mi.Color3f(*gbuffer[k]) for k in ("albedo", "specular", "emission"))
+        roughness = dr.maximum(gbuffer["optical"][3], 0.05)
+        shininess = 2.0 / (roughness * roughness) - 2.0  # Blinn-Phong exponent of a GGX alpha
+        v = dr.normalize(mi.Point3f(*(float(c) for c in eye)) - p)
+        n = dr.select(dr.dot(n, v) < 0.0, -n, n)  # two-sided shading, as Mitsuba's BSDFs see the front side
+        color = emission + self._ambient * (albedo + specular)
+        if self.lights.count:
+            color = _direct(self._rows, self.lights.count, p, n, v, albedo, specular, shininess, color)
+        return dr.select(hit, color, emission)
 
-    def shade(self, gbuffer: dict[str, np.ndarray], hit: np.ndarray, eye: np.ndarray) -> np.ndarray:
-        """The raster layer (H, W, 3) from G-buffer targets (``INPUTS``) and the hit mask."""
-        h, w = hit.shape
-        textures, fbo = self._resources(w, h)
-        for name in INPUTS:
-            textures[name].write(np.ascontiguousarray(gbuffer[name], dtype=np.float32).tobytes())
-        textures["hit"].write(hit.astype(np.float32).tobytes())
-        for unit, name in enumerate(["position", "normal", "albedo", "specular", "optical", "emission", "hit"]):
-            textures[name].use(unit)
-            self.program[f"g_{name}"].value = unit
-        self._light_texture.use(7)
-        self.program["lights"].value = 7
-        self.program["light_count"].value = self.lights.count
-        self.program["ambient"].value = tuple(float(c) for c in self.lights.ambient)
-        self.program["eye"].value = tuple(float(c) for c in eye)
-        fbo.use()
-        fbo.viewport = (0, 0, w, h)
-        self.ctx.disable(moderngl.DEPTH_TEST)
-        self._vao.render(moderngl.TRIANGLES, vertices=3)
-        return np.frombuffer(fbo.read(components=4, dtype="f4"), np.float32).reshape(h, w, 4)[..., :3].copy()
+
+@dr.syntax
+def _direct(rows: list[mi.Float], count: int, p: mi.Point3f, n: mi.Vector3f, v: mi.Vector3f, albedo: mi.Color3f,
+            specular: mi.Color3f, shininess: mi.Float, color: mi.Color3f) -> mi.Color3f:
+    """Add the unshadowed direct light of every light in the table (a symbolic loop over them):
+    Lambert plus normalized Blinn-Phong."""
+    k = mi.UInt32(0)
+    while k < count:
+        r0, r1, r2 = (dr.gather(mi.Vector4f, row, k) for row in rows)
+        kind, axis, intensity = r0.w, mi.Vector3f(r1.x, r1.y, r1.z), mi.Color3f(r2.x, r2.y, r2.z)
+        d = mi.Vector3f(r0.x, r0.y, r0.z) - p
+        dist2 = dr.maximum(dr.squared_norm(d), 1e-8)
+        to_light = d * dr.rsqrt(dist2)
+        c = dr.clip(dr.dot(-to_light, axis), -1.0, 1.0)
+        cutoff = dr.acos(dr.clip(r1.w, -1.0, 1.0))
+        spot = dr.select(c < r1.w, 0.0, dr.select(c >= r2.w, 1.0, (cutoff - dr.acos(c)) /
+                                                  dr.maximum(cutoff - dr.acos(dr.clip(r2.w, -1.0, 1.0)), 1e-6)))
+        falloff = dr.select(dr.abs(kind - 1.0) < 0.5, spot, dr.select(dr.abs(kind - 2.0) < 0.5, dr.maximum(c, 0.0), 1.0))
+        directional = kind > 2.5
+        l = dr.select(directional, -axis, to_light)
+        irradiance = dr.select(directional, intensity, intensity * falloff / dist2)  # at normal incidence
+        cos_i = dr.dot(n, l)
+        h = dr.normalize(l + v)
+        lobe = (shininess + 8.0) / (8.0 * dr.pi) * dr.power(dr.maximum(dr.dot(n, h), 0.0), shininess)
+        color += dr.select(cos_i > 0.0, irradiance * cos_i * (albedo / dr.pi + specular * lobe), 0.0)
+        k += 1
+    return color

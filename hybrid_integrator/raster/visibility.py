@@ -39,6 +39,13 @@ class VisibilityBuffer:
     def hit(self) -> np.ndarray:
         return self.shape_index >= 0
 
+    def words(self) -> tuple[np.ndarray, np.ndarray]:
+        """The raster targets this buffer was read from (:meth:`Rasterizer.read_targets`)."""
+        packed = np.stack([(self.shape_index + 1).astype(np.uint32), self.prim_index.astype(np.uint32),
+                           self.bary[..., 0].astype(np.float32).view(np.uint32),
+                           self.bary[..., 1].astype(np.float32).view(np.uint32)], axis=-1)
+        return packed.ravel(), np.where(self.hit, self.depth, 0.0).astype(np.float32).ravel()
+
 
 def _shader(name: str) -> str:
     return importlib.resources.files(__package__).joinpath("shaders", name).read_text()
@@ -104,11 +111,18 @@ class Rasterizer:
             vao.render(moderngl.TRIANGLES)
         return fbo
 
+    def read_targets(self, fbo: moderngl.Framebuffer) -> tuple[np.ndarray, np.ndarray]:
+        """The targets of :meth:`render` as they are: per pixel (row-major, row 0 at the top) four
+        words (shape index + 1, 0 for background; triangle index; the two barycentrics' float
+        bits) and the distance from the eye. ``primary.primary_hits`` decodes them on the device."""
+        return (np.frombuffer(fbo.read(attachment=0, components=4, dtype="u4"), dtype=np.uint32),
+                np.frombuffer(fbo.read(attachment=1, components=1, dtype="f4"), dtype=np.float32))
+
     def read(self, fbo: moderngl.Framebuffer, offset: tuple[float, float]) -> VisibilityBuffer:
         """Read the targets of :meth:`render` back to the host as a :class:`VisibilityBuffer`."""
         w, h = fbo.size
-        hit = np.frombuffer(fbo.read(attachment=0, components=4, dtype="u4"), dtype=np.uint32).reshape(h, w, 4)
-        dist = np.frombuffer(fbo.read(attachment=1, components=1, dtype="f4"), dtype=np.float32).reshape(h, w)
+        words, distance = self.read_targets(fbo)
+        hit, dist = words.reshape(h, w, 4), distance.reshape(h, w)
         shape_index = hit[..., 0].astype(np.int32) - 1
         valid = shape_index >= 0
         return VisibilityBuffer(
