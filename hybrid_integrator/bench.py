@@ -11,8 +11,9 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
   frames (``budget.py``), which are warm-up, not measured;
 - ``path@Nspp``: Mitsuba's ``path`` at 1, 2, 4 … spp (the time/error curve), and
-  ``path@equal-time``: the largest spp whose measured time fits in the hybrid's frame time (the
-  paper compares with the Brigade path tracer this way, Table 4);
+  ``path@equal-time``: the spp whose time, on a line fitted through that curve (a fixed cost plus
+  a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
+  hybrid against the Brigade path tracer, Table 4; at least 1 spp, so it can take longer);
 
 with the per-stage breakdown of every hybrid frame, and the error of every image against the
 ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
@@ -157,9 +158,9 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         path_times[s] = statistics.median(times)
         s *= 2
     equal_time = None
-    if accuracy:  # equal time: the spp whose time fits the hybrid's frame, from the measured time per spp
-        per_spp = max(path_times[path_spp[-1]] / path_spp[-1], 1e-9)
-        equal_spp = max(1, int(everything.time_ms / per_spp))
+    if accuracy:  # equal time: the spp whose time fits the hybrid's frame, by a line through path's curve
+        slope, fixed = np.polyfit(path_spp, [path_times[k] for k in path_spp], 1) if len(path_spp) > 1 else (path_times[1], 0.0)
+        equal_spp = max(1, int((everything.time_ms - fixed) / max(slope, 1e-9)))
         image, times = _timed_path(scene, equal_spp, max_depth, seed, repeats=min(frames, 3))
         error, _ = image_error(image, reference)
         rows.append(Measurement("path@equal-time", "path", statistics.median(times), times, error.flip, error.rel_mse,
