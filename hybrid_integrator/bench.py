@@ -11,8 +11,8 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
   frames (``budget.py``), which are warm-up, not measured;
 - ``path@Nspp``: Mitsuba's ``path`` at 1, 2, 4 … spp (the time/error curve), and
-  ``path@equal-time``: the spp whose time, on a line fitted through that curve (a fixed cost plus
-  a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
+  ``path@equal-time``: the spp whose time, on the line through that curve's ends (a fixed cost
+  plus a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
   hybrid against the Brigade path tracer, Table 4; at least 1 spp, so it can take longer);
 
 with the per-stage breakdown of every hybrid frame, and the error of every image against the
@@ -159,8 +159,11 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         s *= 2
     equal_time = None
     if accuracy:  # equal time: the spp whose time fits the hybrid's frame, by a line through path's curve
-        slope, fixed = np.polyfit(path_spp, [path_times[k] for k in path_spp], 1) if len(path_spp) > 1 else (path_times[1], 0.0)
-        equal_spp = max(1, int((everything.time_ms - fixed) / max(slope, 1e-9)))
+        first, last = path_spp[0], path_spp[-1]
+        per_spp = max((path_times[last] - path_times[first]) / max(last - first, 1), 0.1 * path_times[last] / last)
+        fixed = max(path_times[first] - per_spp * first, 0.0)
+        # at most 16× the curve's last point: further out the line is a guess
+        equal_spp = int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last))
         image, times = _timed_path(scene, equal_spp, max_depth, seed, repeats=min(frames, 3))
         error, _ = image_error(image, reference)
         rows.append(Measurement("path@equal-time", "path", statistics.median(times), times, error.flip, error.rel_mse,

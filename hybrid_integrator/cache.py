@@ -1,4 +1,5 @@
-"""Per-scene state kept between frames: GPU geometry, lights, material constants.
+"""What is kept between frames and runs: per-scene state in memory (GPU geometry, lights,
+material constants) and files on disk (ground truths, generated meshes).
 
 Mitsuba scenes cannot be weakly referenced, so the few most recently used scenes keep theirs
 (strong references, least recently used dropped first). After editing a scene's geometry or
@@ -6,7 +7,9 @@ materials through ``mi.traverse``, call :func:`forget` for it.
 """
 from __future__ import annotations
 
+import os
 from collections import OrderedDict
+from pathlib import Path
 from typing import Callable
 
 import mitsuba as mi
@@ -33,3 +36,10 @@ def scene_state(scene: mi.Scene, name: str, factory: Callable[[], object]):
 def forget(scene: mi.Scene) -> None:
     """Drop everything kept for ``scene`` (re-read on next use)."""
     _CACHE.pop(id(scene), None)
+
+
+def disk_cache(name: str) -> Path:
+    """The folder ``name`` of the on-disk cache: ``$HYBRID_CACHE``, else ``~/.cache/hybrid_integrator``
+    (under ``$XDG_CACHE_HOME`` when set)."""
+    root = os.environ.get("HYBRID_CACHE") or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "hybrid_integrator"
+    return Path(root) / name

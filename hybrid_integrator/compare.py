@@ -26,6 +26,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from .cache import disk_cache
 from .metrics import image_error
 from .scene import load_scene
 
@@ -42,9 +43,8 @@ class MethodResult:
 
 
 def cache_dir() -> Path:
-    """Where ground-truth images are kept (``$HYBRID_CACHE``, else ``~/.cache/hybrid_integrator``)."""
-    root = os.environ.get("HYBRID_CACHE") or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "hybrid_integrator"
-    return Path(root) / "ground_truth"
+    """Where ground-truth images are kept (``cache.disk_cache``)."""
+    return disk_cache("ground_truth")
 
 
 def scene_fingerprint(path: Path, params: dict) -> str:

@@ -20,6 +20,7 @@ from pathlib import Path
 import mitsuba as mi
 import numpy as np
 
+from .cache import disk_cache
 from .errors import HybridError
 
 GRID = 4
@@ -30,11 +31,6 @@ MATERIALS = (
     {"type": "plastic", "diffuse_reflectance": {"type": "rgb", "value": [0.15, 0.3, 0.6]}},
 )
 MIN_TRIANGLES, MAX_TRIANGLES = 1_000, 50_000_000
-
-
-def _cache() -> Path:
-    root = os.environ.get("HYBRID_CACHE") or Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "hybrid_integrator"
-    return Path(root) / "procedural"
 
 
 def uv_sphere(segments: int, rings: int) -> tuple[np.ndarray, np.ndarray]:
@@ -60,7 +56,7 @@ def sphere_mesh(triangles_per_sphere: int) -> Path:
     """The PLY of a UV sphere with about ``triangles_per_sphere`` triangles (written once)."""
     segments = max(8, int(round(math.sqrt(triangles_per_sphere))))
     rings = max(3, int(round(triangles_per_sphere / (2 * segments))) + 1)
-    path = _cache() / f"uv_sphere_{segments}x{rings}.ply"
+    path = disk_cache("procedural") / f"uv_sphere_{segments}x{rings}.ply"
     if not path.is_file():
         vertices, faces = uv_sphere(segments, rings)
         mesh = mi.Mesh("uv_sphere", len(vertices), len(faces))
