@@ -86,6 +86,7 @@ class FrameStats:
     proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
     edge_refinements: int = 0  # silhouette pixel-samples whose raster hit was re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
+    readback: str = ""  # how the raster targets reached Dr.Jit: cuda-gl-interop, or host (reason)
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected for the batches traced
     predicted_rays: int = 0  # the secondary rays it expected them to trace (``secondary_rays``: traced)
@@ -185,9 +186,9 @@ class HybridRenderer:
             offset = (float(offset[0]), float(offset[1]))
             # 1. primary visibility: the raster (paper §3.1) or camera rays (the baseline, §8)
             if settings.primary == "raster":
-                words, distance = self.raster.read_targets(self.raster.render(camera, offset))
-                hits = primary_hits(scene, sensor, camera, mi.UInt32(words), mi.Float(distance), offset,
-                                    self.raster.is_proxy)
+                words, distance = self.raster.device_targets(self.raster.render(camera, offset))
+                hits = primary_hits(scene, sensor, camera, words, distance, offset, self.raster.is_proxy)
+                stats.readback = self.raster.readback
                 stats.proxy_refinements += hits.proxy_refined
                 stats.edge_refinements += hits.edge_refined
             else:

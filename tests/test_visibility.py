@@ -126,3 +126,11 @@ def test_shape_indices_from_pointers_match_mitsuba():
     assert len(np.unique(mapped)) == len(scene.shapes())
     assert np.array_equal(mapped, np.array(pi.shape_index)[np.array(valid)])
     assert dr.width(valid) == 1280 * 720
+
+
+def test_frame_says_how_the_raster_targets_reached_drjit():
+    """CUDA–OpenGL interop needs a CUDA variant; on the CPU the targets go through the host, and
+    the frame's statistics say so and why."""
+    scene = load(DEFAULT_SCENE)
+    frame = hi.render(scene, spp=1)
+    assert frame.stats.readback == "host (llvm_ad_rgb is not a CUDA variant)"

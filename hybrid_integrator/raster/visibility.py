@@ -21,6 +21,7 @@ import numpy as np
 
 from .camera import RasterCamera
 from .context import gl_context
+from .interop import Readback
 from .geometry import ShapeGeometry, scene_geometry
 
 
@@ -68,6 +69,7 @@ class Rasterizer:
         corners = np.concatenate([s.positions for s in self.shapes]) if self.shapes else np.zeros((1, 3))
         self._bbox = (corners.min(axis=0).astype(np.float64), corners.max(axis=0).astype(np.float64))
         self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
+        self._readback: Readback | None = None
 
     def _upload(self, shape: ShapeGeometry) -> moderngl.VertexArray:
         vbo = self.ctx.buffer(np.ascontiguousarray(shape.positions, dtype="f4").tobytes())
@@ -117,6 +119,18 @@ class Rasterizer:
         bits) and the distance from the eye. ``primary.primary_hits`` decodes them on the device."""
         return (np.frombuffer(fbo.read(attachment=0, components=4, dtype="u4"), dtype=np.uint32),
                 np.frombuffer(fbo.read(attachment=1, components=1, dtype="f4"), dtype=np.float32))
+
+    def device_targets(self, fbo: moderngl.Framebuffer) -> tuple[mi.UInt32, mi.Float]:
+        """The targets of :meth:`render` as Dr.Jit arrays (as :meth:`read_targets` lays them out),
+        without crossing the host where CUDA–OpenGL interop works (``interop.Readback``)."""
+        if self._readback is None:
+            self._readback = Readback(self.ctx)
+        return self._readback.targets(fbo, self.read_targets)
+
+    @property
+    def readback(self) -> str:
+        """How :meth:`device_targets` reads: ``cuda-gl-interop``, or ``host (reason)``."""
+        return self._readback.mode if self._readback is not None else "not used yet"
 
     def read(self, fbo: moderngl.Framebuffer, offset: tuple[float, float]) -> VisibilityBuffer:
         """Read the targets of :meth:`render` back to the host as a :class:`VisibilityBuffer`."""
