@@ -40,7 +40,10 @@ def _device_pointer(array) -> int:
     """Device address of an evaluated Dr.Jit CUDA array (from its DLPack export)."""
     get = ctypes.pythonapi.PyCapsule_GetPointer
     get.restype, get.argtypes = ctypes.c_void_p, [ctypes.py_object, ctypes.c_char_p]
-    tensor = _DLTensor.from_address(get(array.__dlpack__(), b"dltensor"))
+    capsule = array.__dlpack__()  # alive while its tensor is read: its destructor frees the tensor
+    tensor = _DLTensor.from_address(get(capsule, b"dltensor"))
+    if not tensor.data:
+        raise RuntimeError("a Dr.Jit array exported no device pointer")
     return int(tensor.data) + int(tensor.byte_offset)
 
 
@@ -123,8 +126,8 @@ class Readback:
                         raise RuntimeError("the interop copy differs from the host read-back")
                     self._verified = True
                 return shared
-            except RuntimeError as exc:
-                self._driver, self.mode = None, f"host (interop failed: {exc})"
+            except Exception as exc:  # noqa: BLE001 - any failure of interop falls back, and says why
+                self._driver, self.mode = None, f"host (interop failed: {type(exc).__name__}: {exc})"
         words, distance = host_read(fbo)
         return mi.UInt32(words), mi.Float(distance)
 
