@@ -42,9 +42,10 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     sensor = resolve_sensor(scene, sensor)
     camera = RasterCamera.from_sensor(sensor)
     raster = rasterizer(scene)
-    vis = raster.draw(camera, offset)
+    fbo = raster.render(camera, offset)
+    words, distance = raster.read_targets(fbo)
+    vis = raster.decode(words, distance, fbo.size, offset)
     if aovs:
-        words, distance = vis.words()
         hits = primary_hits(scene, sensor, camera, mi.UInt32(words), mi.Float(distance), vis.offset, raster.is_proxy)
         targets = compute_aovs(scene, hits, vis.depth.shape, aovs)
     else:

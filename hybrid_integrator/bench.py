@@ -33,18 +33,17 @@ import platform
 import statistics
 import subprocess
 import sys
-import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from .compare import ground_truth, render_path
+from .compare import ground_truth, timed_path
 from .errors import HybridError
-from .metrics import image_error
+from .metrics import ImageError, image_error
 from .procedural import procedural_scene, scene_triangles
+from .raster.context import machine
 from .scene import load_scene
 
 #: the paper's Tables 3 and 4 (ms at 1280×720 on a GTX 570), by the project scene that stands in
@@ -92,18 +91,6 @@ def _scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
     return load_scene(spec, **{k: v for k, v in params.items() if f"${k}" in text}), Path(spec).stem
 
 
-def _timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int) -> tuple[np.ndarray, list[float]]:
-    times, image = [], None
-    for r in range(repeats + 1):  # the first compiles
-        start = time.perf_counter()
-        image = render_path(scene, spp, max_depth, seed + r)
-        dr.eval(image)
-        dr.sync_thread()
-        if r:
-            times.append((time.perf_counter() - start) * 1e3)
-    return np.array(image, dtype=np.float32)[..., :3], times
-
-
 def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int = 1, gt_spp: int = 1024,
                 max_path_spp: int = 64, budgets=(0.0, 0.25, 0.5, 0.75), seed: int = 0, freeze: bool = True,
                 accuracy: bool = True, **properties) -> dict:
@@ -147,28 +134,23 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
         hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))
 
-    path_spp, path_times = [], {}
-    s = 1
-    while accuracy and s <= max_path_spp:
-        image, times = _timed_path(scene, s, max_depth, seed, repeats=min(frames, 3))
-        error, _ = image_error(image, reference)
-        rows.append(Measurement(f"path@{s}spp", "path", statistics.median(times), times, error.flip, error.rel_mse,
-                                error.delta_e2000, s))
-        path_spp.append(s)
-        path_times[s] = statistics.median(times)
-        s *= 2
+    def path(method: str, path_spp: int) -> Measurement:
+        image, times = timed_path(scene, path_spp, max_depth, seed, repeats=min(frames, 3))
+        error = _error(image, reference)
+        rows.append(Measurement(method, "path", statistics.median(times), times, error.flip, error.rel_mse,
+                                error.delta_e2000, path_spp))
+        return rows[-1]
+
     equal_time = None
-    if accuracy:  # equal time: the spp whose time fits the hybrid's frame, by a line through path's curve
-        first, last = path_spp[0], path_spp[-1]
-        per_spp = max((path_times[last] - path_times[first]) / max(last - first, 1), 0.1 * path_times[last] / last)
-        fixed = max(path_times[first] - per_spp * first, 0.0)
+    if accuracy:
+        curve = [path(f"path@{s}spp", s) for s in (2 ** k for k in range(max_path_spp.bit_length()))]
+        # equal time: the spp whose time fits the hybrid's frame, by a line through the curve's ends
+        first, last = curve[0], curve[-1]
+        per_spp = max((last.time_ms - first.time_ms) / max(last.spp - first.spp, 1), 0.1 * last.time_ms / last.spp)
+        fixed = max(first.time_ms - per_spp * first.spp, 0.0)
         # at most 16× the curve's last point: further out the line is a guess
-        equal_spp = int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last))
-        image, times = _timed_path(scene, equal_spp, max_depth, seed, repeats=min(frames, 3))
-        error, _ = image_error(image, reference)
-        rows.append(Measurement("path@equal-time", "path", statistics.median(times), times, error.flip, error.rel_mse,
-                                error.delta_e2000, equal_spp))
-        equal_time = {"spp": equal_spp, "time_ms": rows[-1].time_ms, "flip": rows[-1].flip}
+        equal = path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
+        equal_time = {"spp": equal.spp, "time_ms": equal.time_ms, "flip": equal.flip}
 
     film = sensor.film().size()
     meshes = [sh for sh in scene.shapes() if isinstance(sh, mi.Mesh)]
@@ -185,23 +167,16 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     }
 
 
-def _error(image: np.ndarray, reference: np.ndarray | None):
+def _error(image: np.ndarray, reference: np.ndarray | None) -> ImageError:
+    """The image's error against the ground truth; NaN without one (a scaling point)."""
     if reference is None:
-        return _NO_ERROR
+        return ImageError(float("nan"), float("nan"), float("nan"))
     return image_error(image, reference)[0]
 
 
-class _NoError:
-    flip = rel_mse = delta_e2000 = float("nan")
-
-
-_NO_ERROR = _NoError()
-
-
 def _device() -> str:
-    from .raster.context import renderer_name
-
-    return f"{platform.node()}: GL {renderer_name()}, {platform.processor() or platform.machine()}"
+    m = machine()
+    return f"{platform.node()}: GL {m['gl_renderer']}, {m['cpu']}"
 
 
 # --- running scenes in child processes, tables and charts ---------------------------------------

@@ -62,17 +62,23 @@ def scene_fingerprint(path: Path, params: dict) -> str:
     return digest.hexdigest()
 
 
-def _timed(fn):
-    start = time.perf_counter()
-    value = fn()
-    dr.eval(value)
-    dr.sync_thread()
-    return value, (time.perf_counter() - start) * 1e3
-
-
 def render_path(scene: mi.Scene, spp: int, max_depth: int, seed: int = 0) -> mi.TensorXf:
     integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
     return mi.render(scene, integrator=integrator, spp=spp, seed=seed)
+
+
+def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1) -> tuple[np.ndarray, list[float]]:
+    """Mitsuba ``path`` rendered ``repeats`` times after one warm-up render (which compiles), each
+    timed with the backend synchronized: (the image as (H, W, 3) float32, the times in ms)."""
+    times, image = [], None
+    for r in range(repeats + 1):
+        start = time.perf_counter()
+        image = render_path(scene, spp, max_depth, seed)
+        dr.eval(image)
+        dr.sync_thread()
+        if r:
+            times.append((time.perf_counter() - start) * 1e3)
+    return np.array(image, dtype=np.float32)[..., :3], times
 
 
 def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
@@ -120,9 +126,7 @@ def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, s
         rows.append(MethodResult(name, result.stats.times_ms["total"], error.flip, error.rel_mse, error.delta_e2000,
                                  result.stats.secondary_rays, result.stats.pixels_traced))
         images[name], maps[name] = image, error_maps
-    _timed(lambda: render_path(scene, spp, max_depth, seed))
-    path_image, path_ms = _timed(lambda: render_path(scene, spp, max_depth, seed))
-    path_image = np.array(path_image, dtype=np.float32)[..., :3]
+    path_image, (path_ms,) = timed_path(scene, spp, max_depth, seed)
     error, maps["path"] = image_error(path_image, reference)
     rows.append(MethodResult("path", path_ms, error.flip, error.rel_mse, error.delta_e2000))
     images["path"] = path_image

@@ -27,6 +27,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from .cache import scene_state
 from .raster.camera import RasterCamera
 
 
@@ -64,10 +65,16 @@ def shape_indices(scene: mi.Scene, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UIn
     ``PreliminaryIntersection3f.shape_index`` is filled by the LLVM backend's ray tracer but not by
     OptiX, so indices are recovered from the pointers themselves: a shape pointer is an id in
     Dr.Jit's registry, mapped back through a small lookup table."""
+    table = scene_state(scene, "shape_table", lambda: _shape_table(scene))
+    return dr.gather(mi.UInt32, table, dr.reinterpret_array(mi.UInt32, shape), valid)
+
+
+def _shape_table(scene: mi.Scene) -> mi.UInt32:
+    """Registry id of each shape → its index in ``scene.shapes()`` (read once per scene)."""
     ids = np.array(dr.reinterpret_array(mi.UInt32, scene.shapes_dr()), dtype=np.int64)
     table = np.zeros(ids.max() + 1, dtype=np.uint32)
     table[ids] = np.arange(len(ids), dtype=np.uint32)
-    return dr.gather(mi.UInt32, mi.UInt32(table), dr.reinterpret_array(mi.UInt32, shape), valid)
+    return mi.UInt32(table)
 
 
 def silhouettes(shape_id: mi.UInt32, width: int, height: int) -> mi.Bool:
@@ -85,7 +92,7 @@ def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, words
                  offset: tuple[float, float], is_proxy: np.ndarray) -> PrimaryHits:
     """Rebuild Mitsuba's surface interactions from the raster targets (``Rasterizer.read_targets``,
     uploaded as they are), decoded on the device; ``is_proxy`` flags each scene shape drawn as a
-    proxy. A :class:`VisibilityBuffer` gives the same targets through ``vis.words()``."""
+    proxy."""
     ray = camera_rays(sensor, camera, offset)
     i = dr.arange(mi.UInt32, camera.width * camera.height)
     shape_id = dr.gather(mi.UInt32, words, 4 * i)  # 0: background

@@ -78,18 +78,18 @@ class Lobes:
 
 
 def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, traced: mi.Bool,
-                  effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool,
-                  seed: int, first_effects: tuple[tuple[str, ...], ...] | None = None,
-                  first_config: mi.UInt32 | None = None, freeze: bool = False,
-                  shape_index: mi.UInt32 | None = None, n_shapes: int = 0) -> tuple[mi.Color3f, TraceCounts]:
+                  effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool, *,
+                  seed: int, shape_index: mi.UInt32, n_shapes: int,
+                  first_effects: tuple[tuple[str, ...], ...] | None = None, first_config: mi.UInt32 | None = None,
+                  freeze: bool = False) -> tuple[mi.Color3f, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` distinguishes passes.
 
     The rays spawned at the primary hit are the kinds its object deserves (§4.1): pixel ``i``
     uses ``first_effects[first_config[i]]`` (default: ``effects`` everywhere), so objects with
     different kinds are traced in one call; deeper vertices use ``effects``. ``freeze`` replays
-    the path loop's recorded kernels (:func:`_run_paths`). With ``shape_index`` (per pixel, of
-    ``n_shapes``), the rays are also counted per object (what the cost model learns from)."""
+    the path loop's recorded kernels (:func:`_run_paths`). The rays are counted per object
+    (``shape_index`` per pixel, of ``n_shapes``): what the cost model learns from."""
     radiance = dr.zeros(mi.Color3f, dr.width(traced))
     pixel = dr.compress(traced)  # only the selected pixels are traced: cost follows the selection
     if dr.width(pixel) == 0:
@@ -110,10 +110,6 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     else:
         L, rays = _paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
     dr.scatter(radiance, L, pixel)
-    if shape_index is None:
-        totals = [dr.sum(r) for r in rays]
-        dr.eval(radiance, *totals)
-        return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(dr.ravel(t)[0]) for t in totals))), recorded=recorded)
     objects = dr.gather(mi.UInt32, shape_index, pixel)
     per_object = [dr.zeros(mi.UInt32, n_shapes) for _ in rays]
     for target, r in zip(per_object, rays):

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import statistics
 from pathlib import Path
 
@@ -86,8 +85,8 @@ def main() -> None:
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}"
                + ("" if args.freeze else " --no-freeze"))
-    from hybrid_integrator.raster.context import renderer_name
-    machine = {"variant": args.variant, "gl_renderer": renderer_name(), "cpu": platform.processor() or platform.machine()}
+    from hybrid_integrator.raster.context import machine as machine_of
+    machine = machine_of()
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps({"command": command, "machine": machine, "all_candidates_ms": all_ms,
                                                             "budget_ms": budget, "summaries": summaries, "runs": runs}, indent=2))

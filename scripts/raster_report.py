@@ -62,7 +62,7 @@ def main() -> None:
     from hybrid_integrator.primary import camera_rays
     from hybrid_integrator.raster.agreement import visibility_agreement
     from hybrid_integrator.raster.camera import RasterCamera, sensor_like
-    from hybrid_integrator.raster.context import renderer_name
+    from hybrid_integrator.raster.context import machine as machine_of
     from hybrid_integrator.scene import load_scene
 
     rows, timings = [], []
@@ -93,8 +93,7 @@ def main() -> None:
                         "mitsuba_primary_rays_ms": round(median_ms(trace, args.repeats), 3)})
         print(name, timings[-1], flush=True)
 
-    machine = {"variant": args.variant, "gl_renderer": renderer_name(), "cpu": platform.processor() or platform.machine(),
-               "python": platform.python_version(), "mitsuba": mi.__version__}
+    machine = {**machine_of(), "python": platform.python_version(), "mitsuba": mi.__version__}
     command = f"python scripts/raster_report.py --variant {args.variant} -o {args.output.relative_to(ROOT) if args.output.is_relative_to(ROOT) else args.output}"
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps({"command": command, "machine": machine, "agreement": rows, "timing_1280x720": timings}, indent=2))

@@ -7,6 +7,7 @@ backend fails headless, hence ``backend='egl'``.
 from __future__ import annotations
 
 import functools
+import platform
 
 import moderngl
 
@@ -38,3 +39,10 @@ def gl_context() -> moderngl.Context:
 def renderer_name() -> str:
     """The OpenGL renderer string (e.g. 'llvmpipe (LLVM 15.0.6, 256 bits)'), for reports."""
     return gl_context().info["GL_RENDERER"]
+
+
+def machine() -> dict[str, str]:
+    """What a measurement ran on: Mitsuba variant, OpenGL renderer, CPU (for reports)."""
+    import mitsuba as mi
+
+    return {"variant": mi.variant(), "gl_renderer": renderer_name(), "cpu": platform.processor() or platform.machine()}

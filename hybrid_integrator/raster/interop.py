@@ -4,7 +4,8 @@ Sabino et al. share their G-buffer between OpenGL and OptiX rather than copying 
 CPU (§7). Here the visibility pass's two targets are read with ``glReadPixels`` into pixel buffer
 objects, which stay on the GPU; each buffer is registered once with CUDA
 (``cuGraphicsGLRegisterBuffer``), mapped every pass and copied device to device into a Dr.Jit
-array. On the H200 that takes 0.7 ms for a 1280×720 pass instead of 4–23 ms through the host.
+array. On the H200 that takes 1.1 ms for a 1280×720 pass instead of 4.8–5.0 ms through the host
+(``scripts/readback_benchmark.py``, docs/results/gpu/readback_*.json).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``
@@ -36,12 +37,14 @@ class _DLTensor(ctypes.Structure):
                 ("shape", ctypes.c_void_p), ("strides", ctypes.c_void_p), ("byte_offset", ctypes.c_uint64)]
 
 
+_capsule_pointer = ctypes.pythonapi.PyCapsule_GetPointer
+_capsule_pointer.restype, _capsule_pointer.argtypes = ctypes.c_void_p, [ctypes.py_object, ctypes.c_char_p]
+
+
 def _device_pointer(array) -> int:
     """Device address of an evaluated Dr.Jit CUDA array (from its DLPack export)."""
-    get = ctypes.pythonapi.PyCapsule_GetPointer
-    get.restype, get.argtypes = ctypes.c_void_p, [ctypes.py_object, ctypes.c_char_p]
     capsule = array.__dlpack__()  # alive while its tensor is read: its destructor frees the tensor
-    tensor = _DLTensor.from_address(get(capsule, b"dltensor"))
+    tensor = _DLTensor.from_address(_capsule_pointer(capsule, b"dltensor"))
     if not tensor.data:
         raise RuntimeError("a Dr.Jit array exported no device pointer")
     return int(tensor.data) + int(tensor.byte_offset)

@@ -40,13 +40,6 @@ class VisibilityBuffer:
     def hit(self) -> np.ndarray:
         return self.shape_index >= 0
 
-    def words(self) -> tuple[np.ndarray, np.ndarray]:
-        """The raster targets this buffer was read from (:meth:`Rasterizer.read_targets`)."""
-        packed = np.stack([(self.shape_index + 1).astype(np.uint32), self.prim_index.astype(np.uint32),
-                           self.bary[..., 0].astype(np.float32).view(np.uint32),
-                           self.bary[..., 1].astype(np.float32).view(np.uint32)], axis=-1)
-        return packed.ravel(), np.where(self.hit, self.depth, 0.0).astype(np.float32).ravel()
-
 
 def _shader(name: str) -> str:
     return importlib.resources.files(__package__).joinpath("shaders", name).read_text()
@@ -134,8 +127,12 @@ class Rasterizer:
 
     def read(self, fbo: moderngl.Framebuffer, offset: tuple[float, float]) -> VisibilityBuffer:
         """Read the targets of :meth:`render` back to the host as a :class:`VisibilityBuffer`."""
-        w, h = fbo.size
-        words, distance = self.read_targets(fbo)
+        return self.decode(*self.read_targets(fbo), fbo.size, offset)
+
+    def decode(self, words: np.ndarray, distance: np.ndarray, size: tuple[int, int],
+               offset: tuple[float, float]) -> VisibilityBuffer:
+        """The :class:`VisibilityBuffer` of targets read by :meth:`read_targets` (film ``size``)."""
+        w, h = size
         hit, dist = words.reshape(h, w, 4), distance.reshape(h, w)
         shape_index = hit[..., 0].astype(np.int32) - 1
         valid = shape_index >= 0
