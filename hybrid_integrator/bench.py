@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import json
 import platform
+import re
 import statistics
 import subprocess
 import sys
@@ -285,6 +286,11 @@ def scaling(axis: str, values: list[str], out: Path, options: list[str], command
 
     from tqdm import tqdm
 
+    pattern = r"[0-9]+" if axis == "triangles" else r"[0-9]+x[0-9]+"
+    wrong = [v for v in values if not re.fullmatch(pattern, v.lower())]
+    if wrong:
+        raise HybridError(f"bench --scaling {axis}: {wrong} are not "
+                          + ("triangle counts" if axis == "triangles" else "resolutions WxH (e.g. 1280x720)"))
     reports = []
     with tempfile.TemporaryDirectory() as tmp:
         for value in tqdm(values, desc=f"scaling by {axis}", unit="point"):

@@ -57,6 +57,8 @@ def test_bench_scaling_by_triangles(tmp_path):
 
 @pytest.mark.parametrize("args, message", [(["procedural:10"], "triangles=10 must lie in"),
                                            (["--scaling", "triangles"], "needs --values"),
+                                           (["--scaling", "resolution", "--values", "1280by720"],
+                                            "['1280by720'] are not resolutions WxH"),
                                            ([], "at least one scene")])
 def test_bench_bad_input(tmp_path, args, message):
     done = bench(*args, "--frames", "1", "-o", str(tmp_path / "x"))
