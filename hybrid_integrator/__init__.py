@@ -15,13 +15,15 @@ pin_llvm()  # before Dr.Jit's LLVM backend starts: see environment.py
 
 from .api import camera_path, rasterize, rasterizer, render, render_sequence  # noqa: E402
 from .cache import forget  # noqa: E402
+from .objects import SceneObjects, scene_objects  # noqa: E402
 from .errors import (HybridError, RasterContextError, UnsupportedSceneError,  # noqa: E402
                      UnsupportedVariantError)
 from .raster.gbuffer import AOV_CHANNELS, GBuffer  # noqa: E402
 from .raster.visibility import Rasterizer, VisibilityBuffer  # noqa: E402
 from .scene import load_scene  # noqa: E402
 
-__all__ = ["load_scene", "rasterize", "render", "render_sequence", "camera_path", "register", "rasterizer", "forget", "GBuffer", "VisibilityBuffer", "Rasterizer", "AOV_CHANNELS",
+__all__ = ["load_scene", "rasterize", "render", "render_sequence", "camera_path", "register", "rasterizer", "forget",
+           "scene_objects", "SceneObjects", "GBuffer", "VisibilityBuffer", "Rasterizer", "AOV_CHANNELS",
            "HybridError", "UnsupportedSceneError", "UnsupportedVariantError", "RasterContextError"]
 __version__ = "0.1.0"
 

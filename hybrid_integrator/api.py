@@ -7,7 +7,8 @@ import numpy as np
 from .cache import scene_state
 from .environment import require_jit_rgb_variant
 from .errors import HybridError
-from .primary import primary_hits
+from .objects import scene_objects
+from .primary import camera_rays, primary_hits, visibility_buffer
 from .raster.camera import RasterCamera, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
 from .raster.visibility import Rasterizer
@@ -34,7 +35,8 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     ``offset`` is the sub-pixel sample position in [0,1)² (the pixel centre by default); ``aovs``
     names any of the G-buffer targets (``position``, ``normal``, ``albedo``, ``specular``,
     ``optical``, ``emission``, or ``"all"``) to derive from Mitsuba's BSDFs and emitters. Arrays
-    are numpy, indexed ``[row, column]`` with row 0 at the top of the image."""
+    are numpy, indexed ``[row, column]`` with row 0 at the top of the image; ``shape_index``
+    indexes the scene's objects (``shape_ids``: its ``<shape>`` ids, ``objects.py``)."""
     require_jit_rgb_variant()
     aovs = check_aovs(aovs)
     if not all(0.0 <= float(o) < 1.0 for o in offset):
@@ -42,15 +44,14 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     sensor = resolve_sensor(scene, sensor)
     camera = RasterCamera.from_sensor(sensor)
     raster = rasterizer(scene)
-    fbo = raster.render(camera, offset)
-    words, distance = raster.read_targets(fbo)
-    vis = raster.decode(words, distance, fbo.size, offset)
+    ids = mi.UInt32(raster.read_ids(raster.render(camera, offset)))
+    ray = camera_rays(sensor, camera.width, camera.height, offset)
+    vis = visibility_buffer(ray, ids, raster.tables, camera.eye, (camera.width, camera.height), offset)
+    targets = {}
     if aovs:
-        hits = primary_hits(scene, sensor, camera, mi.UInt32(words), mi.Float(distance), vis.offset, raster.is_proxy)
+        hits = primary_hits(scene, ray, ids, camera.width, camera.height, raster.tables)
         targets = compute_aovs(scene, hits, vis.depth.shape, aovs)
-    else:
-        targets = {}
-    return GBuffer(**vars(vis), **targets, shape_ids=tuple(s.name for s in raster.shapes))
+    return GBuffer(**vars(vis), **targets, shape_ids=scene_objects(scene).names)
 
 
 def _integrator(properties: dict):
@@ -67,12 +68,14 @@ def _integrator(properties: dict):
     return integrator
 
 
-def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor = 0, aovs=(), **properties):
+def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor = 0, aovs=(), layers: bool = True,
+           **properties):
     """Render one hybrid frame; ``properties`` are the ``hybrid`` integrator's (``primary``,
     ``effects``, ``candidates`` (a string or a mapping ``{id: kinds}``), ``blend``, ``budget_ms``,
-    ...). Returns a ``HybridResult`` with ``image`` (as ``mi.render`` returns it), ``layers`` and
-    ``stats``."""
-    return _integrator(dict(properties)).render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs)
+    ...). Returns a ``HybridResult`` with ``image`` (as ``mi.render`` returns it), ``layers``
+    (unless ``layers=False``, which saves their splatting) and ``stats``."""
+    return _integrator(dict(properties)).render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs,
+                                                       layers=layers)
 
 
 def camera_path(keyframes, frames: int) -> list[mi.ScalarTransform4f]:
@@ -92,7 +95,7 @@ def camera_path(keyframes, frames: int) -> list[mi.ScalarTransform4f]:
 
 
 def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, sensor: int | mi.Sensor = 0,
-                    **properties) -> list:
+                    layers: bool = True, **properties) -> list:
     """Render a camera path: one frame per camera transform (``mi.ScalarTransform4f`` or 4×4
     matrix, e.g. from :func:`camera_path`), carrying the previous frame's selection (S of eq. 3)
     and the calibrated cost model from frame to frame (paper §4.3). Returns one ``HybridResult``
@@ -104,10 +107,14 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
     original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     results = []
     try:
+        current = None
         for frame, camera in enumerate(cameras):
-            params["to_world"] = mi.ScalarTransform4f(transform_matrix(camera))
-            params.update()
-            results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp))
+            matrix = transform_matrix(camera)
+            if current is None or not np.array_equal(matrix, current):  # a still camera needs no update
+                params["to_world"] = mi.ScalarTransform4f(matrix)
+                params.update()
+                current = matrix
+            results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp, layers=layers))
     finally:
         params["to_world"] = original
         params.update()

@@ -3,8 +3,9 @@
 For one scene, after warm-up, as medians over ``frames`` repeated frames (one sample per pixel by
 default, the real-time setting) with the backend synchronized, :func:`bench_scene` measures:
 
-- ``raster``: the raster layer alone (``candidates=""``); its raster + lighting stages are the
-  paper's **DR** (deferred rendering time);
+- ``raster``: the raster layer alone (``candidates=""``): its frame time (raster, deferred
+  lighting, composition; nothing traced) is the paper's **DR** (deferred rendering time), shown
+  beside the GPU time of its OpenGL draw alone (``gl_ms``, a GL timer query);
 - ``rt-baseline``: ``primary="raytrace"``, every candidate traced: the paper's **RT**;
 - ``hybrid``: raster primaries, every candidate traced: the paper's **Hybrid**; Gain = RT / Hybrid;
 - ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
@@ -15,13 +16,12 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   plus a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
   hybrid against the Brigade path tracer, Table 4; at least 1 spp, so it can take longer);
 
-with the per-stage breakdown of every hybrid frame, and the error of every image against the
-ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
+with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
+error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
 ΔE2000 (``metrics.py``).
 
 :func:`run` runs one child process per scene (``hybrid bench --single``): each scene gets a fresh
-Dr.Jit state, which frozen trace kernels (``freeze``) need (``trace.py``), and the GPU memory of
-one scene is freed before the next. It then writes the JSON, the tables (Table 3 and Table 4
+Dr.Jit state and the GPU memory of one scene is freed before the next. It then writes the JSON, the tables (Table 3 and Table 4
 layout, beside the paper's figures) and one chart per scene: time per frame (log) against FLIP.
 :func:`scaling` measures hybrid and RT baseline against triangle count (``procedural.py``) and
 resolution.
@@ -59,7 +59,7 @@ PAPER = {
                     "Hybrid": 28.283},
 }
 FIELDS = ("scene", "name", "variant", "device", "width", "height", "spp", "frames", "vertices", "triangles", "shapes",
-          "ground_truth", "dr_ms", "rt_ms", "hybrid_ms", "gain", "all_candidates_trace_ms", "equal_time",
+          "ground_truth", "dr_ms", "gl_ms", "rt_ms", "path_1spp_ms", "hybrid_ms", "gain", "all_candidates_trace_ms", "equal_time",
           "methods", "command")
 
 
@@ -97,7 +97,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                 accuracy: bool = True, **properties) -> dict:
     """Every measurement of the module docstring on one scene; ``properties`` are the hybrid
     integrator's (``max_depth`` is shared with ``path`` and the ground truth). Without
-    ``accuracy`` (a point of a scaling curve): raster, hybrid and RT baseline times only, errors NaN."""
+    ``accuracy`` (a point of a scaling curve, or a timing run): no ground truth, errors NaN, and
+    no equal-time ``path``."""
     import hybrid_integrator as hi
 
     params = dict(params or {})
@@ -115,7 +116,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     def hybrid(method: str, kind: str, warmup: int, **extra) -> Measurement:
         props = {"freeze": freeze, **properties, **extra}
-        results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=spp, seed=seed, **props)[warmup:]
+        results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=spp, seed=seed, layers=False,
+                                     **props)[warmup:]
         error = _error(np.array(results[-1].image, dtype=np.float32)[..., :3], reference)
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
@@ -143,8 +145,9 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         return rows[-1]
 
     equal_time = None
+    # the whole curve where errors are measured; its first point (the 1-spp time) always
+    curve = [path(f"path@{s}spp", s) for s in (2 ** k for k in range(max_path_spp.bit_length() if accuracy else 1))]
     if accuracy:
-        curve = [path(f"path@{s}spp", s) for s in (2 ** k for k in range(max_path_spp.bit_length()))]
         # equal time: the spp whose time fits the hybrid's frame, by a line through the curve's ends
         first, last = curve[0], curve[-1]
         per_spp = max((last.time_ms - first.time_ms) / max(last.spp - first.spp, 1), 0.1 * last.time_ms / last.spp)
@@ -162,7 +165,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         "shapes": len(scene.shapes()),
         "ground_truth": {"integrator": "path", "spp": gt_spp, "max_depth": max_depth,
                          "file": None if gt_file is None else str(gt_file), "cached": cached},
-        "dr_ms": raster.stages_ms["raster"] + raster.stages_ms["lighting"], "rt_ms": rt.time_ms,
+        "dr_ms": raster.time_ms, "gl_ms": raster.stages_ms.get("gl", 0.0), "rt_ms": rt.time_ms,
+        "path_1spp_ms": curve[0].time_ms,
         "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "all_candidates_trace_ms": trace_all,
         "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
     }
@@ -217,14 +221,35 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",
-             "| scene | vertices | triangles | DR | RT | Hybrid | Gain | paper (GTX 570): DR / RT / Hybrid / Gain |",
-             "|---|---|---|---|---|---|---|---|"]
+             "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL draw "
+             "alone (GPU time); `path`: Mitsuba's path tracer at 1 spp on the same scene.", "",
+             "| scene | vertices | triangles | shapes | DR | GL draw | RT | Hybrid | Gain | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in reports:
         p = PAPER.get(r["name"], {})
         paper = f"{p['DR']} / {p['RT']} / {p['Hybrid']} / {p['Gain']}" if "RT" in p else "–"
-        lines.append(f"| {r['name']} | {r['vertices']:,} | {r['triangles']:,} | {r['dr_ms']:.1f} | {r['rt_ms']:.1f} | "
-                     f"{r['hybrid_ms']:.1f} | {r['gain']:.2f} | {paper} |")
-    lines += ["", "## Table 4 layout: hybrid against a path tracer at equal time", "",
+        lines.append(f"| {r['name']} | {r['vertices']:,} | {r['triangles']:,} | {r['shapes']} | {r['dr_ms']:.2f} | "
+                     f"{r['gl_ms']:.2f} | {r['rt_ms']:.2f} | {r['hybrid_ms']:.2f} | {r['gain']:.2f} | "
+                     f"{r['path_1spp_ms']:.2f} | {paper} |")
+    if all(r["equal_time"] for r in reports):
+        lines += _table4(reports)
+    for r in reports:
+        lines += ["", f"## {r['name']}: every method", "",
+                  "| method | ms per frame | FLIP | rel. MSE | ΔE2000 | spp | pixels traced | secondary rays | device ms: GL / raster / lighting / select / trace / compose | host issue ms |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for m in r["methods"]:
+            st = m["stages_ms"]
+            stages = " / ".join(f"{st.get(k, 0.0):.2f}" for k in ("gl", "raster", "lighting", "select", "trace", "compose")) if st else ""
+            traced = "" if m["pixels_traced"] is None else f"{m['pixels_traced']:,.0f}"
+            rays = "" if m["secondary_rays"] is None else f"{m['secondary_rays']:,.0f}"
+            issue = f"{st['issue']:.2f}" if st else ""
+            lines.append(f"| {m['method']} | {m['time_ms']:.2f} | {m['flip']:.4f} | {m['rel_mse']:.4f} | "
+                         f"{m['delta_e2000']:.2f} | {m['spp']} | {traced} | {rays} | {stages} | {issue} |")
+    return "\n".join(lines)
+
+
+def _table4(reports: list[dict]) -> list[str]:
+    lines = ["", "## Table 4 layout: hybrid against a path tracer at equal time", "",
               "| scene | Hybrid ms | Hybrid FLIP | path spp at equal time | path ms | path FLIP | paper: Brigade / Hybrid ms |",
               "|---|---|---|---|---|---|---|"]
     for r in reports:
@@ -233,18 +258,7 @@ def tables(reports: list[dict], commands: list[str]) -> str:
         paper = f"{p['Brigade']} / {p['Hybrid']}" if "Brigade" in p else "–"
         lines.append(f"| {r['name']} | {h['time_ms']:.1f} | {h['flip']:.4f} | {r['equal_time']['spp']} | "
                      f"{r['equal_time']['time_ms']:.1f} | {r['equal_time']['flip']:.4f} | {paper} |")
-    for r in reports:
-        lines += ["", f"## {r['name']}: every method", "",
-                  "| method | ms per frame | FLIP | rel. MSE | ΔE2000 | spp | pixels traced | secondary rays | stages: raster / lighting / select / trace / compose |",
-                  "|---|---|---|---|---|---|---|---|---|"]
-        for m in r["methods"]:
-            st = m["stages_ms"]
-            stages = " / ".join(f"{st[k]:.1f}" for k in ("raster", "lighting", "select", "trace", "compose")) if st else ""
-            traced = "" if m["pixels_traced"] is None else f"{m['pixels_traced']:,.0f}"
-            rays = "" if m["secondary_rays"] is None else f"{m['secondary_rays']:,.0f}"
-            lines.append(f"| {m['method']} | {m['time_ms']:.1f} | {m['flip']:.4f} | {m['rel_mse']:.4f} | "
-                         f"{m['delta_e2000']:.2f} | {m['spp']} | {traced} | {rays} | {stages} |")
-    return "\n".join(lines)
+    return lines
 
 
 def chart(report: dict, path: Path) -> None:
@@ -264,7 +278,9 @@ def chart(report: dict, path: Path) -> None:
             ax.annotate(m["method"].split("@")[1], (m["time_ms"], m["flip"]), fontsize=7, xytext=(3, 3),
                         textcoords="offset points")
     for name, marker in (("raster", "s"), ("hybrid", "D"), ("rt-baseline", "^"), ("path@equal-time", "*")):
-        m = next(x for x in methods if x["method"] == name)
+        m = next((x for x in methods if x["method"] == name), None)
+        if m is None:
+            continue
         ax.plot([m["time_ms"]], [m["flip"]], marker, markersize=9, label=f"{name} ({m['spp']} spp)" if name.startswith("path") else name)
     ax.set_xscale("log")
     ax.set_xlabel("time per frame (ms, log)")

@@ -1,30 +1,30 @@
 """The frame-time budget: predicting what tracing costs, and cutting the work to fit (paper §4).
 
-**Cost model.** The time to trace a batch of pixels is modelled as
+**Cost model.** The time to trace the selected pixels of a pass is modelled as
 ``t = margin · (t0 + Σ_kind rate_kind · rays_kind)``: a fixed launch cost plus a throughput per
-ray kind (shadow, reflection, refraction, indirect). It is calibrated online: every traced batch
-adds (rays counted per kind, milliseconds measured with the backend synchronized) to a window of
+ray kind (shadow, reflection, refraction, indirect). It is calibrated online: every traced pass
+adds (rays counted per kind, the trace stage's device time, measured with CUDA events or the LLVM
+backend's clock: ``kernel_history``) to a window of
 the last ``window`` observations, which smooths it across frames, and the model is refitted by
-non-negative least squares (``scipy.optimize.nnls``). Successive batches trace similar mixes of
+non-negative least squares (``scipy.optimize.nnls``). Successive passes trace similar mixes of
 rays, so the per-kind rates are nearly collinear; each is therefore pulled towards the pooled rate
 (one rate for every ray, fitted first) with the weight of one observation, and only moves away from
 it as far as the data show a difference. A prediction is made before tracing, from the rays each
 object is expected to spawn (learnt per object, ``FrameState.rays_per_pixel``), and neither those
 nor the time per ray are exact (paths vary in length, the machine is shared), so the ``margin`` is
 the 90th percentile, over the window, of measured time / the fit applied to the rays that were
-*expected*: the prediction is one that 90 % of recent batches stayed under, both errors included. A frame that traces
+*expected*: the prediction is one that 90 % of recent passes stayed under, both errors included. A frame that traces
 nothing while candidates are visible forgets the window's slowest observation relative to the fit
 if it is an outlier, so that one stall cannot keep the model too pessimistic to ever trace again;
 a budget below the fixed cost of a launch consistently measured traces nothing.
 
-**Batches.** The selected objects are traced in relevance order, in as few batches as the budget
-allows: one trace call traces objects with different ray kinds together (``trace.py``: each pixel
-spawns the kinds its object deserves), so a batch is just a slice of the relevance order, and each
-costs one launch. The budget is split into up to ``MAX_BATCHES`` batches only while their launch
-costs stay under a quarter of it: more batches let the frame stop earlier when the machine is
-slower than predicted, but each costs a launch. Before each batch the predicted time is checked
-against the time left, and tracing stops at the first batch that would overrun. Whatever is not
-traced shows the raster layer, so the frame is always complete.
+**One trace call per pass.** The selected objects are traced together: one trace call traces
+objects with different ray kinds (``trace.py``: each pixel spawns the kinds its object deserves),
+and the selection is data (an effect set per object) of the frame's frozen device pass, so the
+frame needs no host round trip between selecting and tracing. It is planned from the objects'
+coverage of the *previous* frame (§4.3's frame-to-frame coherence; the first frame of a sequence
+measures its coverage first). Whatever is not traced shows the raster layer, so the frame is always
+complete.
 """
 from __future__ import annotations
 
@@ -40,7 +40,7 @@ from .selection_graph import Node, select
 
 @dataclass
 class CostModel:
-    """Milliseconds per traced batch as ``t0 + Σ rate_kind · rays_kind`` (see module docstring)."""
+    """Milliseconds per traced pass as ``t0 + Σ rate_kind · rays_kind`` (see module docstring)."""
 
     rates: dict[str, float] = field(default_factory=lambda: dict.fromkeys(KINDS, 1e-4))  # ms per ray
     launch_ms: float = 1.0
@@ -56,19 +56,19 @@ class CostModel:
         return self.launch_ms + sum(self.rates[k] * v for k, v in rays.items())
 
     def predict(self, rays: dict[str, float]) -> float:
-        """Predicted milliseconds of one batch tracing ``rays``."""
+        """Predicted milliseconds of a trace call tracing ``rays``."""
         return self.margin * self._fitted(rays)
 
     def extra(self, rays: dict[str, float]) -> float:
-        """Predicted milliseconds ``rays`` add to a batch (without its launch cost)."""
+        """Predicted milliseconds ``rays`` add to a trace call (without its launch cost)."""
         return self.predict(rays) - self.launch()
 
     def launch(self) -> float:
-        """Predicted fixed cost of one batch."""
+        """Predicted fixed cost of a trace call."""
         return self.margin * self.launch_ms
 
     def observe(self, rays: dict[str, float], measured_ms: float, expected: dict[str, float] | None = None) -> None:
-        """Add a traced batch: the ``rays`` it traced, its time, and the rays it was ``expected``
+        """Add a traced pass: the ``rays`` it traced, its time, and the rays it was ``expected``
         to trace when planned (default: ``rays``)."""
         expected = rays if expected is None else expected
         self.history.append(([float(rays.get(k, 0.0)) for k in KINDS], float(measured_ms),
@@ -116,11 +116,8 @@ class FrameState:
     selected: set[int] = field(default_factory=set)
     cost_model: CostModel = field(default_factory=CostModel)
     rays_per_pixel: dict[int, dict[str, float]] = field(default_factory=dict)
-    #: time of the ray-tracing stage outside its batches (set-up, accumulation), smoothed
-    overhead_ms: float = 0.0
-
-    def learn_overhead(self, stage_ms: float, batches_ms: float, smoothing: float = 0.5) -> None:
-        self.overhead_ms = smoothing * self.overhead_ms + (1 - smoothing) * max(stage_ms - batches_ms, 0.0)
+    #: the objects' coverage in the last frame (``heuristic.Coverage``): what the next frame plans from
+    coverage: object | None = None
 
     def learn_rays(self, index: int, pixels: int, rays: dict[str, int], smoothing: float = 0.5) -> None:
         if pixels <= 0:
@@ -130,75 +127,40 @@ class FrameState:
                                       for k, v in rays.items()}
 
 
-MAX_BATCHES = 4
-
-
-@dataclass
-class Batch:
-    """Objects traced together: one ``trace_effects`` call."""
-
-    objects: list[int]
-    mask: np.ndarray  # bool per scene shape: pixels of these objects are traced
-    rays: dict[str, float]  # predicted rays per kind
-    pixels: dict[int, int]  # visible pixels per object
-
-
 @dataclass
 class FramePlan:
-    """The selection of one frame: what is traced, in which batches, against which budget."""
+    """The selection of one frame: what is traced, against which budget."""
 
     objects: list[ObjectRelevance]  # every visible candidate, most relevant first
-    batches: list[Batch]
+    traced: set[int]  # the objects traced (their pixels, in one trace call per pass)
+    rays: dict[str, float]  # the secondary rays per kind they are expected to spawn, per pass
     pass_budget_ms: float  # the trace time allowed per sample pass (inf: unlimited)
 
-    def cut(self, first_dropped: int) -> None:
-        """Drop the batches from ``first_dropped`` on: they would overrun the budget."""
-        del self.batches[first_dropped:]
 
-    @property
-    def traced(self) -> set[int]:
-        return {k for b in self.batches for k in b.objects}
-
-
-def _batch(objects: list[ObjectRelevance], n_shapes: int) -> Batch:
-    mask = np.zeros(n_shapes, dtype=bool)
-    mask[[o.index for o in objects]] = True
+def _plan(order: list[ObjectRelevance], picked: set[int], budget: float) -> FramePlan:
     rays: dict[str, float] = {}
-    for o in objects:
-        for kind, v in o.rays.items():
-            rays[kind] = rays.get(kind, 0.0) + v
-    return Batch(objects=[o.index for o in objects], mask=mask, rays=rays, pixels={o.index: o.pixels for o in objects})
+    for o in order:
+        if o.index in picked:
+            for kind, v in o.rays.items():
+                rays[kind] = rays.get(kind, 0.0) + v
+    return FramePlan(order, picked, rays, budget)
 
 
-def plan_frame(objects: list[ObjectRelevance], n_shapes: int, method: str, budget_ms: float, spp: int,
-               model: CostModel, pointers: int = 4, overhead_ms: float = 0.0) -> FramePlan:
-    """Select the objects to trace (``selection_graph.select``) and slice them into batches.
+def plan_frame(objects: list[ObjectRelevance], method: str, budget_ms: float, spp: int, model: CostModel,
+               pointers: int = 4) -> FramePlan:
+    """Select the objects to trace (``selection_graph.select``).
 
-    Unlimited budget: every visible candidate, in one batch. With a budget: the selector picks
-    within the per-pass budget less the stage's own overhead and the launch cost of the batches,
-    except while the cost model is not yet calibrated, when the 1, 2, then 4 most relevant objects
-    are traced, whatever the budget (probes that measure the machine). The picked objects are sliced, in relevance order, into
-    ``n`` batches of about equal predicted cost (module docstring)."""
+    Unlimited budget: every visible candidate. With a budget: the selector picks within the
+    per-pass budget less the launch cost of the trace call, except while the cost model is not
+    yet calibrated, when the 1, 2, then 4 most relevant objects are traced, whatever the budget
+    (probes that measure the machine)."""
     order = sorted(objects, key=lambda o: -o.relevance)
     if budget_ms <= 0:
-        return FramePlan(order, [_batch(order, n_shapes)] if order else [], float("inf"))
-    pass_budget = budget_ms / max(spp, 1) - overhead_ms  # what the batches themselves may take
+        return _plan(order, {o.index for o in order}, float("inf"))
+    pass_budget = budget_ms / max(spp, 1)
     if not model.calibrated:  # probes of 1, 2, 4 objects: different ray counts separate t0 from the rates
-        probe = order[:2 ** len(model.history)]
-        return FramePlan(order, [_batch(probe, n_shapes)] if probe else [], pass_budget)
-    launch = model.launch()
-    n = int(np.clip(0.25 * pass_budget // max(launch, 1e-9), 1, MAX_BATCHES))
-    room = pass_budget - n * launch
+        return _plan(order, {o.index for o in order[:2 ** len(model.history)]}, pass_budget)
+    room = pass_budget - model.launch()
     nodes = [Node(o.index, model.extra(o.rays), o.relevance) for o in order]
     picked = {node.key for node in select(method, nodes, room, pointers)} if room > 0 else set()
-    return FramePlan(order, _slices([o for o in order if o.index in picked], n, n_shapes, model), pass_budget)
-
-
-def _slices(order: list[ObjectRelevance], n: int, n_shapes: int, model: CostModel) -> list[Batch]:
-    """``order`` cut into at most ``n`` consecutive batches of about equal predicted cost."""
-    if not order:
-        return []
-    cost = np.cumsum([model.extra(o.rays) for o in order])
-    edges = np.searchsorted(cost, cost[-1] * np.arange(1, n) / n, side="right")
-    bounds = [0, *sorted(set(int(e) for e in edges if 0 < e < len(order))), len(order)]
-    return [_batch(order[a:b], n_shapes) for a, b in zip(bounds[:-1], bounds[1:])]
+    return _plan(order, picked, pass_budget)

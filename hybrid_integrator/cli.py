@@ -79,7 +79,9 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--budgets", nargs="*", type=float, default=[0.0, 0.25, 0.5, 0.75],
                        help="budgets as fractions of the all-candidates trace time")
     bench.add_argument("--freeze", action=argparse.BooleanOptionalAction, default=True,
-                       help="replay the path loop's recorded kernels (the integrator's freeze property)")
+                       help="replay the device pass's recorded kernels (the integrator's freeze property)")
+    bench.add_argument("--accuracy", action=argparse.BooleanOptionalAction, default=True,
+                       help="measure every image against a ground truth (off: times only, no ground truth rendered)")
     bench.add_argument("--scaling", choices=("triangles", "resolution"), help="time against triangles or resolution")
     bench.add_argument("--values", nargs="*", default=[], help="triangle counts, or WxH resolutions, for --scaling")
     bench.add_argument("--single", type=Path, help=argparse.SUPPRESS)  # child process: one scene, JSON here
@@ -151,7 +153,8 @@ def _bench_options(args) -> list[str]:
     """The options a child process of ``hybrid bench`` gets (one scene each: bench.py)."""
     options = ["--variant", args.variant, "--frames", str(args.frames), "--spp", str(args.spp),
                "--gt-spp", str(args.gt_spp), "--max-path-spp", str(args.max_path_spp),
-               "--budgets", *map(str, args.budgets), "--freeze" if args.freeze else "--no-freeze"]
+               "--budgets", *map(str, args.budgets), "--freeze" if args.freeze else "--no-freeze",
+               "--accuracy" if args.accuracy else "--no-accuracy"]
     for name, value in _properties(args).items():
         flag = "--" + name.replace("_", "-")
         options += [flag] if value is True else [flag, str(value)]
@@ -171,7 +174,8 @@ def _bench(args) -> dict:
         budgets = () if args.scaling_point else args.budgets
         report = bench.bench_scene(args.scenes[0], dict(args.defines), frames=args.frames, spp=args.spp,
                                    gt_spp=args.gt_spp, max_path_spp=args.max_path_spp, budgets=budgets,
-                                   freeze=args.freeze, accuracy=not args.scaling_point, **_properties(args))
+                                   freeze=args.freeze, accuracy=args.accuracy and not args.scaling_point,
+                                   **_properties(args))
         args.single.write_text(json.dumps(report, indent=2))
         return {"report": str(args.single)}
     if args.scaling:

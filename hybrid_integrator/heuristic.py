@@ -1,12 +1,12 @@
 """The relevance/cost heuristic of Sabino et al. §4.1 (pre-production candidates) and §4 eq. 1–3
 (per-frame visibility, cost and relevance), computed from the frame's own visibility buffer.
 
-**Candidates** (§4.1). Every object (Mitsuba shape) has a candidate flag and the kinds of secondary
+**Candidates** (§4.1). Every object (a ``<shape>`` of the scene file, ``objects.py``) has a candidate flag and the kinds of secondary
 ray it deserves. Defaults come from its material: every surface deserves ``shadow``; a BSDF with
 delta or glossy reflection lobes (conductors, smooth or glossy coatings) also ``reflection``; a
 BSDF with transmission (dielectrics) ``refraction`` and ``reflection``; a BSDF with diffuse lobes
 ``indirect`` (used only when the integrator's ``effects`` include it). The integrator's
-``candidates`` property overrides them per shape id: ``"armadillo:refraction|shadow, floor:reflection"``;
+``candidates`` property overrides them per object id: ``"armadillo:refraction|shadow, floor:reflection"``;
 an id without ``:`` keeps its material's kinds; a listed property makes the unlisted shapes
 non-candidates; ``""`` means none.
 
@@ -35,7 +35,9 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from .cache import scene_state
 from .errors import HybridError
+from .objects import scene_objects
 from .selection import EFFECTS as KINDS  # the ray kinds an object may deserve are the effects
 PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
 
@@ -65,12 +67,11 @@ def _kinds(text, shape_id: str) -> tuple[str, ...]:
 
 
 def candidate_kinds(value, scene: mi.Scene) -> list[tuple[str, ...]]:
-    """Ray kinds per ``scene.shapes()`` entry (empty: not a candidate) from the ``candidates``
-    property: ``None`` (every shape, material defaults), a string ``"id[:kind|kind], ..."``, or a
-    mapping ``{id: kinds or None}``."""
-    shapes = scene.shapes()
-    ids = [s.id() for s in shapes]
-    defaults = [material_kinds(s.bsdf()) for s in shapes]
+    """Ray kinds per object of the scene (``objects.SceneObjects``; empty: not a candidate) from
+    the ``candidates`` property: ``None`` (every object, material defaults), a string
+    ``"id[:kind|kind], ..."``, or a mapping ``{id: kinds or None}``."""
+    ids = scene_objects(scene).names
+    defaults = scene_state(scene, "material_kinds", lambda: _material_defaults(scene))
     if value is None:
         return defaults
     if isinstance(value, str):
@@ -83,9 +84,15 @@ def candidate_kinds(value, scene: mi.Scene) -> list[tuple[str, ...]]:
         entries = dict(value)
     unknown = [n for n in entries if n not in ids]
     if unknown:
-        raise HybridError(f"unknown candidate shape id(s) {unknown}: the scene's shapes are {ids}")
+        raise HybridError(f"unknown candidate object id(s) {unknown}: the scene's objects are {list(ids)}")
     return [(_kinds(entries[i], i) if entries[i] is not None else defaults[k]) if i in entries else ()
             for k, i in enumerate(ids)]
+
+
+def _material_defaults(scene: mi.Scene) -> list[tuple[str, ...]]:
+    """Each object's kinds from its material (read once per scene)."""
+    kinds = [material_kinds(shape.bsdf()) for shape in scene.shapes()]
+    return [kinds[int(k)] for k in scene_objects(scene).shape]
 
 
 @dataclass(frozen=True)
@@ -107,8 +114,8 @@ class ObjectRelevance:
 
 @dataclass(frozen=True)
 class Coverage:
-    """What one visibility buffer says about each shape (indexed like ``scene.shapes()``): its
-    pixels, the sums of their row and column centres and of their depths."""
+    """What one visibility buffer says about each object: its pixels, the sums of their row and
+    column centres and of their depths."""
 
     width: int
     height: int
@@ -122,21 +129,63 @@ class Coverage:
     def any(self) -> bool:
         return bool(self.pixels.sum() > 0)
 
+    @classmethod
+    def of(cls, sums, width: int, height: int, n_objects: int) -> "Coverage":
+        """From the sums of :func:`coverage_sums` (read back here, after the frame)."""
+        sums = np.array(sums, dtype=np.float64).reshape(4, -1)[:, :n_objects]
+        pixels, row_sum, col_sum, depth_sum = sums
+        n_hits, total_depth = pixels.sum(), depth_sum.sum()
+        return cls(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum,
+                   float(total_depth / n_hits) if n_hits else 0.0)
 
-def coverage(shape_index: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_shapes: int) -> Coverage:
-    """Per-shape sums over a visibility buffer (pixels in row-major order), reduced on the device
-    (``dr.scatter_reduce``), so only a few numbers per shape reach the host."""
+
+def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int) -> mi.Float:
+    """Per-object sums over a visibility buffer (pixels in row-major order), reduced on the device
+    (``dr.scatter_reduce``, in the kernel that computes them): pixels, row and column centres,
+    depths, one block of ``n_objects`` each. Only these few numbers per object reach the host,
+    after the frame (:meth:`Coverage.of`)."""
     index = dr.arange(mi.UInt32, width * height)
     row, col = mi.Float(index // width) + 0.5, mi.Float(index % width) + 0.5
-    sums = [dr.zeros(mi.Float, max(n_shapes, 1)) for _ in range(4)]
-    for target, value in zip(sums, (mi.Float(1.0), row, col, depth)):
-        dr.scatter_reduce(dr.ReduceOp.Add, target, value, shape_index, valid)
-    hits, total_depth = dr.count(valid), dr.sum(dr.select(valid, depth, 0.0))
-    dr.eval(*sums, hits, total_depth)
-    pixels, row_sum, col_sum, depth_sum = (np.array(v, dtype=np.float64)[:n_shapes] for v in sums)
-    n_hits = int(dr.ravel(hits)[0])
-    mean_depth = float(dr.ravel(total_depth)[0]) / n_hits if n_hits else 0.0
-    return Coverage(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum, mean_depth)
+    n = max(n_objects, 1)
+    sums = dr.zeros(mi.Float, 4 * n)
+    for k, value in enumerate((mi.Float(1.0), row, col, depth)):
+        dr.scatter_reduce(dr.ReduceOp.Add, sums, value, k * n + obj, valid)
+    return sums
+
+
+def coverage(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int) -> Coverage:
+    """:func:`coverage_sums` read back at once."""
+    return Coverage.of(coverage_sums(obj, valid, depth, width, height, n_objects), width, height, n_objects)
+
+
+@dataclass(frozen=True)
+class VisibilityTerms:
+    """Eq. 1 and 3 for every object at once (numpy arrays indexed by object; see
+    :func:`visibility_terms`)."""
+
+    area: np.ndarray
+    centrality: np.ndarray
+    distance: np.ndarray
+    visibility: np.ndarray
+    relevance: np.ndarray
+    candidate: np.ndarray  # bool: a visible object that deserves one of the integrator's effects
+
+
+def visibility_terms(cov: Coverage, kinds: list[tuple[str, ...]], effects: tuple[str, ...], selected_last: set[int],
+                     importance: float) -> VisibilityTerms:
+    """A, P, D, V (eq. 1) and R (eq. 3) of every object of a coverage, vectorized."""
+    w, h = cov.width, cov.height
+    n = cov.pixels.astype(np.float64)
+    seen = np.maximum(n, 1.0)
+    area = n / (w * h)
+    offset = np.hypot(cov.col_sum / seen - w / 2, cov.row_sum / seen - h / 2)
+    centrality = np.maximum(0.0, 1.0 - offset / (0.5 * np.hypot(w, h)))
+    distance = np.maximum((cov.depth_sum / seen) / max(cov.mean_depth, 1e-30), 1e-6)
+    visibility = area * centrality / distance
+    bonus = np.zeros(len(n))
+    bonus[[k for k in selected_last if k < len(n)]] = importance
+    deserving = np.array([any(kind in effects for kind in ks) for ks in kinds], dtype=bool)
+    return VisibilityTerms(area, centrality, distance, visibility, bonus + visibility, deserving & (n > 0))
 
 
 def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[str],
@@ -146,23 +195,16 @@ def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[st
     ``kinds`` are intersected with the integrator's ``effects``."""
     if not cov.any:
         return []
-    w, h = cov.width, cov.height
-    counts, sum_r, sum_c, sum_d, mean_depth = cov.pixels, cov.row_sum, cov.col_sum, cov.depth_sum, cov.mean_depth
-    half_diagonal = 0.5 * np.hypot(w, h)
+    terms = visibility_terms(cov, kinds, effects, selected_last, importance)
     out = []
-    for k, n in enumerate(counts):
+    for k in np.nonzero(terms.candidate)[0]:
         active = tuple(kind for kind in kinds[k] if kind in effects)
-        if n == 0 or not active:
-            continue
-        area = n / (w * h)
-        offset = np.hypot(sum_c[k] / n - w / 2, sum_r[k] / n - h / 2)
-        centrality = max(0.0, 1.0 - offset / half_diagonal)
-        distance = max((sum_d[k] / n) / mean_depth, 1e-6)
-        visibility = area * centrality / distance
+        n = int(cov.pixels[k])
         per_pixel = rays_per_pixel.get(k) or {kind: PRIOR_RAYS_PER_PIXEL[kind] for kind in active}
         rays = {kind: float(n) * v for kind, v in per_pixel.items() if v > 0}
-        relevance = (importance if k in selected_last else 0.0) + visibility
-        out.append(ObjectRelevance(index=k, name=names[k], kinds=active, pixels=int(n), area=area, centrality=centrality,
-                                   distance=distance, visibility=visibility, rays=rays,
-                                   cost=visibility * sum(rays.values()), relevance=relevance))
+        out.append(ObjectRelevance(index=int(k), name=names[k], kinds=active, pixels=n, area=float(terms.area[k]),
+                                   centrality=float(terms.centrality[k]), distance=float(terms.distance[k]),
+                                   visibility=float(terms.visibility[k]), rays=rays,
+                                   cost=float(terms.visibility[k]) * sum(rays.values()),
+                                   relevance=float(terms.relevance[k])))
     return out

@@ -2,15 +2,30 @@
 tracing → composition, repeated once per sample at a jittered sub-pixel offset and splatted into
 the film.
 
+:meth:`HybridRenderer.render` is the paper's Fig. 4 as code: plan the selection on the host
+(stage 3, from the last frame's coverage), then per sample pass draw the visibility buffer with
+OpenGL (stage 1) and run the *device pass* (:func:`device_pass`): primary hits, G-buffer and
+deferred lighting (stage 2), the selected pixels, their secondary rays (stage 4) and the
+composition (stage 5), all Dr.Jit kernels, frozen with ``dr.freeze`` so that a frame replays
+recorded kernels instead of tracing Python again. The backend is synchronized once per frame, at
+its end; only then are the frame's few statistics read back (two small copies per pass).
+
 Each sample pass rasterizes the whole frame at one sub-pixel offset (a scrambled Halton sequence,
 one point per pass), so all pixels of a pass share the offset, and ``spp`` passes give
 anti-aliasing. Every pass is splatted with the film's reconstruction filter at
 ``pixel + offset``, exactly where Mitsuba would splat a camera ray through that film position, so
 the image converges to what Mitsuba computes. ``primary="raytrace"`` replaces the raster pass by
 Mitsuba's camera rays and changes nothing else: the paper's pure ray-tracing baseline (§8).
+
+**Timing.** ``FrameStats.times_ms`` holds each stage's *device* time: the OpenGL draw from a GL
+timer query, the Dr.Jit kernels of each stage from Dr.Jit's kernel history (CUDA events on the
+GPU), attributed to the stage that launched them (:class:`StageClock`); ``total`` is the frame's
+wall-clock time, from the call to its statistics read back after its one synchronization, and
+``issue`` the part of it the host took to issue the frame's work.
 """
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import asdict, dataclass, field
@@ -20,21 +35,22 @@ import mitsuba as mi
 import numpy as np
 from scipy.stats import qmc
 
+from .budget import FramePlan, FrameState, plan_frame
 from .compose import compose
 from .errors import HybridError
-from .primary import PrimaryHits, camera_rays, primary_hits, shape_indices
+from .heuristic import Coverage, candidate_kinds, coverage_sums, object_relevance, visibility_terms
+from .lighting import INPUTS, DeferredLighting, LightTable, shade
+from .objects import scene_objects
+from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
-from .raster.gbuffer import aov_values, check_aovs, to_numpy
-from .raster.lighting import INPUTS, DeferredLighting
-from .raster.visibility import Rasterizer
-from .budget import FramePlan, FrameState, plan_frame
-from .heuristic import candidate_kinds, coverage, object_relevance
+from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
+from .raster.visibility import Rasterizer, TriangleTables
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
 from .selection_graph import SELECTORS
-from .trace import RAY_KINDS, TraceCounts, trace_effects
+from .trace import RAY_KINDS, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
-STAGES = ("raster", "lighting", "select", "trace", "compose", "total")
+STAGES = ("raster", "lighting", "select", "trace", "compose")
 
 
 @dataclass(frozen=True)
@@ -46,12 +62,12 @@ class HybridSettings:
     hide_emitters: bool = False
     primary: str = "raster"
     effects: tuple[str, ...] = DEFAULT_EFFECTS
-    candidates: object = None  # None: every shape; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
+    candidates: object = None  # None: every object; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
     budget_ms: float = 0.0
     selection: str = "greedy"
     importance: float = 0.0
-    freeze: bool = False
+    freeze: bool = True
 
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
@@ -73,28 +89,29 @@ class HybridSettings:
 
 @dataclass
 class FrameStats:
-    """What one frame cost and did. Times are milliseconds with the backend synchronized,
-    summed over the frame's sample passes."""
+    """What one frame cost and did. Times are milliseconds, summed over the frame's sample passes:
+    per stage the device time (module docstring; ``raster`` includes ``gl``, the OpenGL draw and
+    its read into the shared buffer), ``issue`` the host's time to issue the frame, ``total`` its
+    wall-clock time up to the one synchronization at its end."""
 
     width: int
     height: int
     spp: int
     primary: str
-    times_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(STAGES, 0.0))
+    times_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(STAGES + ("gl", "issue", "total"), 0.0))
     rays: dict[str, int] = field(default_factory=lambda: dict.fromkeys(("camera",) + RAY_KINDS, 0))
     pixels_traced: int = 0  # traced pixel-samples, summed over passes
     proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
-    edge_refinements: int = 0  # silhouette pixel-samples whose raster hit was re-traced (primary.py)
+    edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
-    readback: str = ""  # how the raster targets reached Dr.Jit: cuda-gl-interop, or host (reason)
+    readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
     budget_ms: float = 0.0  # 0: unlimited
-    predicted_trace_ms: float = 0.0  # what the cost model expected for the batches traced
-    predicted_rays: int = 0  # the secondary rays it expected them to trace (``secondary_rays``: traced)
+    predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
+    predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
     candidates_visible: int = 0
     selected: tuple[str, ...] = ()  # objects traced this frame, most relevant first
     relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
     selection_changes: int = 0  # objects traced now but not in the previous frame, or the reverse
-    batches: int = 0
 
     @property
     def budget_met(self) -> bool:
@@ -108,189 +125,373 @@ class FrameStats:
         return {**asdict(self), "secondary_rays": self.secondary_rays, "budget_met": self.budget_met}
 
 
-@dataclass
 class HybridResult:
     """A rendered frame: ``image`` as ``mi.render`` returns it, the layers (H×W numpy, filtered
-    like the image) and the frame's statistics."""
+    like the image: ``raster``, ``rt``, ``traced`` and any G-buffer AOV asked for; read from the
+    device on first access) and the frame's statistics."""
 
-    image: mi.TensorXf
-    layers: dict[str, np.ndarray]
+    def __init__(self, image: mi.TensorXf, stats: FrameStats, layers: mi.TensorXf | None = None,
+                 aovs: dict[str, np.ndarray] | None = None):
+        self.image, self.stats = image, stats
+        self._layer_sums, self._aovs, self._layers = layers, aovs or {}, None
+
+    @property
+    def layers(self) -> dict[str, np.ndarray]:
+        if self._layers is None:
+            if self._layer_sums is None:
+                raise HybridError("this frame was rendered without layers (layers=False)")
+            sums = np.array(self._layer_sums)
+            weight = np.maximum(sums[..., 7:8], 1e-12)
+            self._layers = {"raster": sums[..., 0:3] / weight, "rt": sums[..., 3:6] / weight,
+                            "traced": sums[..., 6] / weight[..., 0], **self._aovs}
+        return self._layers
+
+
+@functools.lru_cache(maxsize=16)
+def _halton(spp: int) -> np.ndarray:
+    return qmc.Halton(d=2, scramble=False).random(spp + 1)[1:]  # the first point is (0, 0)
+
+
+def subpixel_offsets(spp: int, seed: int) -> list[tuple[float, float]]:
+    """``spp`` sub-pixel positions in [0,1)²: the Halton sequence (low discrepancy), shifted
+    modulo 1 by a random offset drawn from ``seed`` (a Cranley–Patterson rotation: each seed gives
+    another low-discrepancy set, at the cost of two random numbers, not a new scrambling)."""
+    shift = np.random.default_rng(seed).random(2)
+    return [(float(x), float(y)) for x, y in np.mod(_halton(spp) + shift, 1.0)]
+
+
+class StageClock:
+    """Device time per stage, from Dr.Jit's kernel history (``JitFlag.KernelHistory``: CUDA events
+    on the GPU, the LLVM backend's own clock on the CPU), read once after the frame.
+
+    Whenever the device pass's Python body runs (unfrozen, or while ``dr.freeze`` records it),
+    :meth:`mark` evaluates a stage's outputs and notes which kernels that stage launched; a replay
+    launches the same kernels (same hashes, same order) without running the body, so the history
+    of any frame can be split by stage. Reductions and copies, which have no kernel hash, belong to
+    the stage of the kernel before them."""
+
+    def __init__(self):
+        self.stage_of: dict[str, str] = {}
+        self._taken: list[tuple[str, dict]] = []
+
+    def mark(self, stage: str, *values) -> None:
+        dr.eval(*values)
+        for entry in dr.kernel_history():
+            if entry.get("hash"):
+                self.stage_of[entry["hash"]] = stage
+            self._taken.append((stage, entry))
+
+    def frame_times(self) -> dict[str, float]:
+        """The device ms per stage of the kernels since the last call (the frame's)."""
+        times = dict.fromkeys(STAGES[1:], 0.0)
+        current = STAGES[1]
+        for stage, entry in self._taken + [(None, e) for e in dr.kernel_history()]:
+            stage = stage or self.stage_of.get(entry.get("hash"), current)
+            current = stage
+            times[stage] = times.get(stage, 0.0) + float(entry.get("execution_time", 0.0))
+        self._taken = []
+        return times
+
+
+@dataclass(frozen=True)
+class PassStatic:
+    """What the device pass's kernels are made for (a change records them again)."""
+
+    width: int
+    height: int
+    primary: str
+    effects: tuple[str, ...]
+    configs: tuple[tuple[str, ...], ...]  # the effect sets the candidates deserve
+    max_depth: int
+    rr_depth: int
+    hide_emitters: bool
+    blend: float
+    targets: tuple[str, ...]  # G-buffer targets: the lighting's inputs and the AOVs asked for
+    aovs: tuple[str, ...]
+    layers: bool
+    has_alpha: bool
+    box_filter: bool
+    has_emitters: bool
+    background_alpha: bool  # an environment is seen behind the geometry
+    n_objects: int
+
+
+@dataclass
+class PassData:
+    """The device pass's inputs that change from pass to pass, and the scene's tables."""
+
+    triangle_id: mi.UInt32  # the visibility buffer (raster primaries; unused for camera rays)
+    offset: mi.Point2f  # sub-pixel position
+    seed: mi.UInt64
+    eye: mi.Point3f
+    config: mi.Int32  # per object: index of its effect set in ``configs``, −1 = not traced this pass
+    tables: TriangleTables
+    lights: LightTable
+    constants: ShapeConstants
+
+
+@dataclass
+class PassOutput:
+    """What one device pass leaves on the device: splats, and its counts packed into two arrays
+    so that reading them back after the frame costs two copies (:class:`PassCounts`)."""
+
+    image: mi.TensorXf  # the image block (film filter, weight channel last)
+    layers: object  # the layer block (raster, rt, traced, weight) or None
+    coverage: mi.Float  # heuristic.coverage_sums (4 × objects)
+    counts: mi.UInt32  # rays per object of each kind (RAY_KINDS order), traced pixels, proxy and edge refinements
+    aovs: dict
+
+
+@dataclass
+class PassCounts:
+    """A :class:`PassOutput`'s counts on the host."""
+
+    coverage: np.ndarray  # 4 sums per object, one block each (heuristic.coverage_sums)
+    rays: np.ndarray  # objects × ray kinds
+    pixels: int
+    proxy_refined: int
+    edge_refined: int
+
+    @classmethod
+    def read(cls, output: PassOutput, n_objects: int) -> "PassCounts":
+        width = max(n_objects, 1)
+        coverage, counts = np.array(output.coverage), np.array(output.counts, dtype=np.int64)
+        rays = counts[:len(RAY_KINDS) * width].reshape(len(RAY_KINDS), width)[:, :n_objects].T
+        pixels, proxy, edge = (int(v) for v in counts[len(RAY_KINDS) * width:])
+        return cls(coverage, rays, pixels, proxy, edge)
+
+
+def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic, clock: StageClock) -> PassOutput:
+    """Stages 1 (on the device) to 5 of one sample pass, as Dr.Jit kernels (module docstring)."""
+    w, h = static.width, static.height
+    ray = camera_rays(sensor, w, h, data.offset)
+    # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8)
+    if static.primary == "raster":
+        hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables)
+    else:
+        hits = traced_hits(scene, ray, data.tables)
+    clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
+    # 2. deferred lighting: the raster layer (§3.1, Fig. 1g)
+    targets = aov_values(scene, hits, static.targets, data.constants)
+    if static.hide_emitters:
+        targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
+    raster = shade(targets, hits.valid, data.eye, data.lights)
+    aovs = {k: targets[k] for k in static.aovs}
+    clock.mark("lighting", raster, aovs)
+    # 3. selection (§4): the selected objects' pixels whose material needs an effect; coverage (eq. 1)
+    selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
+                              static.has_emitters)
+    sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - data.eye), w, h, static.n_objects)
+    clock.mark("select", selection.traced, selection.config, sums)
+    # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
+    rt, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
+                               static.rr_depth, static.hide_emitters, seed=data.seed, obj=hits.object,
+                               n_objects=static.n_objects, first_effects=static.configs,
+                               first_config=selection.config)
+    clock.mark("trace", rt, counts.per_object, counts.pixels)
+    # 5. composition (§5), splatted like a camera ray through the same film position
+    color = compose(raster, rt, selection.traced, static.blend)
+    index = dr.arange(mi.UInt32, w * h)
+    pixel = mi.Point2f(mi.Float(index % w), mi.Float(index // w))
+    pos = pixel if static.box_filter else pixel + data.offset
+    film = sensor.film()
+    block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 5 if static.has_alpha else 4, film.rfilter())
+    alpha = dr.select(hits.valid | static.background_alpha, 1.0, 0.0)
+    block.put(pos, [color.x, color.y, color.z] + ([alpha] if static.has_alpha else []) + [mi.Float(1.0)])
+    layers = None
+    if static.layers:
+        layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, film.rfilter())
+        layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(selection.traced, 1.0, 0.0),
+                              mi.Float(1.0)])
+        layers = layer_block.tensor()
+    packed = dr.concat([counts.per_object, counts.pixels, hits.refined])
+    clock.mark("compose", block.tensor(), layers, packed)
+    return PassOutput(image=block.tensor(), layers=layers, coverage=sums, counts=packed, aovs=aovs)
+
+
+@dataclass
+class _Frame:
+    """One frame's fixed parts: the sensor, its camera, the settings of its passes, its statistics."""
+
+    sensor: mi.Sensor
+    camera: RasterCamera
+    static: PassStatic
+    kinds: list[tuple[str, ...]]  # per object
+    candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
     stats: FrameStats
 
 
-def subpixel_offsets(spp: int, seed: int) -> np.ndarray:
-    """``spp`` sub-pixel positions in [0,1)²: a scrambled Halton sequence (low discrepancy)."""
-    return qmc.Halton(d=2, scramble=True, seed=seed).random(spp)
-
-
-class _Clock:
-    """Accumulates synchronized stage times into ``FrameStats.times_ms``."""
-
-    def __init__(self, times: dict[str, float]):
-        self.times = times
-        self.last = time.perf_counter()
-
-    def lap(self, stage: str, *values) -> None:
-        if values:
-            dr.eval(*values)
-        dr.sync_thread()
-        now = time.perf_counter()
-        self.times[stage] += (now - self.last) * 1e3
-        self.last = now
+def develop(sensor: mi.Sensor, block: mi.TensorXf) -> mi.TensorXf:
+    """The passes' splats into the sensor's film, developed as ``mi.render`` returns it (frozen
+    too: these are a few small kernels, but tracing them anew would cost the host every frame)."""
+    film = sensor.film()
+    film.prepare([])
+    film.put_block(mi.ImageBlock(block, film.crop_offset(), film.rfilter()))
+    return film.develop()
 
 
 class HybridRenderer:
-    """The GPU-side state of one scene: its rasterizer (geometry uploaded once) and lights."""
+    """The GPU-side state of one scene: its rasterizer (geometry uploaded once), lights and tables,
+    and its device pass (recorded once per configuration)."""
 
     def __init__(self, scene: mi.Scene, rasterizer: Rasterizer):
         self.scene = scene
+        self.objects = scene_objects(scene)
         self.raster = rasterizer
         self.lighting = DeferredLighting(scene)
+        self.constants = shape_constants(scene)
+        self.clock = StageClock()
+        self._frozen_pass, self._frozen_develop = dr.freeze(device_pass), dr.freeze(develop)
+        self._gl_queries: list = []
+        self._setups: dict = {}
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
-               aovs=(), state: FrameState | None = None) -> HybridResult:
-        """One frame. ``state`` carries the previous frame's selection and the cost model into this
-        one (a fresh state: the first frame of a sequence)."""
-        scene = self.scene
-        sensor = resolve_sensor(scene, sensor)
-        camera = RasterCamera.from_sensor(sensor)
-        aovs = check_aovs(aovs)
-        spp = int(spp) or sensor.sampler().sample_count()
+               aovs=(), state: FrameState | None = None, layers: bool = True) -> HybridResult:
+        """One frame (paper Fig. 4). ``state`` carries the previous frame's selection, coverage and
+        the cost model into this one (a fresh state: the first frame of a sequence)."""
         state = state if state is not None else FrameState()
-        kinds = candidate_kinds(settings.candidates, scene)
-        # the distinct effect sets the candidates deserve, and each shape's (-1: not a candidate):
+        with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+            dr.kernel_history_clear()
+            start = time.perf_counter()
+            frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
+            plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
+            outputs = [self._pass(settings, frame, config, seed, sample, offset)  # 1, 2, 4, 5 per pass
+                       for sample, offset in enumerate(subpixel_offsets(frame.stats.spp, seed))]
+            block = sum_tensors([o.image for o in outputs])
+            image = self._frozen_develop(frame.sensor, block) if settings.freeze else develop(frame.sensor, block)
+            frame.stats.times_ms["issue"] = (time.perf_counter() - start) * 1e3
+            dr.eval(image)
+            dr.sync_thread()  # the frame's one synchronization
+            self._account(settings, frame, plan, state, [PassCounts.read(o, len(self.objects)) for o in outputs])
+            frame.stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
+        layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
+        aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
+        return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images)
+
+    def _frame(self, settings: HybridSettings, sensor: mi.Sensor, aovs: tuple[str, ...], spp: int, layers: bool) -> _Frame:
+        """The frame's fixed parts; what depends only on the settings is made once and kept."""
+        camera = RasterCamera.from_sensor(sensor)
+        key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
+        if key not in self._setups:
+            self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
+        static, kinds, candidate_config = self._setups[key]
+        stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
+                           primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
+                           budget_ms=settings.budget_ms)
+        return _Frame(sensor=sensor, camera=camera, static=static, kinds=kinds, stats=stats,
+                      candidate_config=candidate_config)
+
+    def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
+               layers: bool) -> tuple[PassStatic, list, np.ndarray]:
+        kinds = candidate_kinds(settings.candidates, self.scene)
+        # the distinct effect sets the candidates deserve, and each object's (-1: not a candidate):
         # fixed for the frame, so that one traced kernel serves every selection
         active = [tuple(k for k in ks if k in settings.effects) for ks in kinds]
         configs = tuple(sorted({a for a in active if a}))
-        shape_config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int64)
-        names = [shape.id() for shape in scene.shapes()]
-        has_emitters = len(scene.emitters()) > 0
-        w, h = camera.width, camera.height
-        stats = FrameStats(width=w, height=h, spp=spp, primary=settings.primary,
-                           lights_left_out=self.lighting.lights.approximated, budget_ms=settings.budget_ms)
-
         film = sensor.film()
-        film.prepare([])
-        image_block = film.create_block()
-        has_alpha = mi.has_flag(film.flags(), mi.FilmFlags.Alpha)
-        layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, film.rfilter())
-        index = dr.arange(mi.UInt32, w * h)
-        pixel = mi.Point2f(mi.Float(index % w), mi.Float(index // w))
-        box = film.rfilter().is_box_filter()
-        counts = TraceCounts()
-        first_targets: dict[str, np.ndarray] = {}
-        start = time.perf_counter()
-        clock = _Clock(stats.times_ms)
+        static = PassStatic(
+            width=camera.width, height=camera.height, primary=settings.primary, effects=settings.effects,
+            configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
+            hide_emitters=settings.hide_emitters, blend=float(settings.blend),
+            targets=tuple(dict.fromkeys(tuple(INPUTS) + aovs)), aovs=aovs, layers=layers,
+            has_alpha=mi.has_flag(film.flags(), mi.FilmFlags.Alpha), box_filter=film.rfilter().is_box_filter(),
+            has_emitters=len(self.scene.emitters()) > 0,
+            background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
+            n_objects=len(self.objects))
+        return static, kinds, np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
 
-        for sample, offset in enumerate(subpixel_offsets(spp, seed)):
-            offset = (float(offset[0]), float(offset[1]))
-            # 1. primary visibility: the raster (paper §3.1) or camera rays (the baseline, §8)
-            if settings.primary == "raster":
-                words, distance = self.raster.device_targets(self.raster.render(camera, offset))
-                hits = primary_hits(scene, sensor, camera, words, distance, offset, self.raster.is_proxy)
-                stats.readback = self.raster.readback
-                stats.proxy_refinements += hits.proxy_refined
-                stats.edge_refinements += hits.edge_refined
-            else:
-                ray = camera_rays(sensor, camera, offset)
-                si = scene.ray_intersect(ray)
-                valid = si.is_valid()
-                hits = PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, si.shape, valid), valid=valid)
-                stats.rays["camera"] += w * h
-            clock.lap("raster", hits.ray, hits.si, hits.shape_index, hits.valid)  # all of it: Dr.Jit is lazy
+    def _select(self, settings: HybridSettings, frame: _Frame, state: FrameState, seed: int) -> tuple[FramePlan | None, mi.Int32]:
+        """Stage 3 on the host (§4): every visible candidate without a budget; with one, the plan
+        of ``budget.plan_frame`` from the last frame's coverage (measured first, with nothing
+        traced, if this frame is the first of its size). Returns the plan and each object's
+        effect set for the device pass."""
+        if settings.budget_ms <= 0:
+            return None, mi.Int32(frame.candidate_config)
+        cov = state.coverage
+        if not isinstance(cov, Coverage) or (cov.width, cov.height) != (frame.camera.width, frame.camera.height):
+            probe = self._pass(settings, frame, mi.Int32(np.full(len(self.objects), -1, np.int32)), seed, 0, (0.5, 0.5))
+            counts = PassCounts.read(probe, len(self.objects))
+            cov = Coverage.of(counts.coverage, frame.camera.width, frame.camera.height, len(self.objects))
+            self.clock.frame_times()  # not this frame's work
+        plan = self._plan(settings, frame, state, cov)
+        traced = np.array([k in plan.traced for k in range(len(self.objects))])
+        return plan, mi.Int32(np.where(traced, frame.candidate_config, -1).astype(np.int32))
 
-            # 2. deferred lighting: the raster layer (§3.1, Fig. 1g)
-            targets = aov_values(scene, hits, tuple(dict.fromkeys(tuple(INPUTS) + aovs)))
-            if settings.hide_emitters:
-                targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
-            raster = self.lighting.shade(targets, hits.valid, camera.eye)
-            if sample == 0 and aovs:
-                first_targets = to_numpy({k: targets[k] for k in aovs}, (h, w))
-            clock.lap("lighting", raster)
+    def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:
+        """Eq. 1–3 from a coverage, then the selection within the budget."""
+        objects = object_relevance(cov, frame.kinds, list(self.objects.names), settings.effects, state.selected,
+                                   settings.importance, state.rays_per_pixel)
+        return plan_frame(objects, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
 
-            # 3. selection (§4): planned once per frame, from its first pass's primary hits
-            if sample == 0:
-                plan = self._plan(hits, camera, kinds, names, settings, state, spp)
-            clock.lap("select")
+    def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset) -> PassOutput:
+        """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
+        camera = frame.camera
+        if settings.primary == "raster":
+            if len(self._gl_queries) <= sample:
+                self._gl_queries.append(self.raster.ctx.query(time=True))
+            with self._gl_queries[sample]:
+                triangle_id = self.raster.device_ids(self.raster.render(camera, offset))
+        else:
+            triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
+        data = PassData(triangle_id=triangle_id, offset=mi.Point2f(*(dr.opaque(mi.Float, o) for o in offset)),
+                        seed=dr.opaque(mi.UInt64, (int(seed) << 32) + sample),
+                        eye=mi.Point3f(*(dr.opaque(mi.Float, float(c)) for c in camera.eye)), config=config,
+                        tables=self.raster.tables, lights=self.lighting.table, constants=self.constants)
+        run = self._frozen_pass if settings.freeze else device_pass
+        return run(self.scene, frame.sensor, data, frame.static, self.clock)
 
-            # 4. ray tracing (§3.2): batch by batch, most relevant first, within the budget
-            stage_start = time.perf_counter()
-            rt, traced = dr.zeros(mi.Color3f, w * h), dr.zeros(mi.Bool, w * h)
-            batches_ms = 0.0
-            for i, batch in enumerate(list(plan.batches)):
-                predicted = state.cost_model.predict(batch.rays)
-                elapsed = (time.perf_counter() - stage_start) * 1e3
-                if sample == 0 and i > 0 and elapsed + predicted > plan.pass_budget_ms:
-                    # the batches before ran slower than predicted, and this one would overrun:
-                    # it and the less relevant ones show the raster layer (the first was planned to fit)
-                    plan.cut(i)
-                    break
-                batch_start = time.perf_counter()  # the whole batch: selecting its pixels, tracing, accumulating
-                selection = select_pixels(hits.si, hits.ray, hits.shape_index, hits.valid,
-                                          np.where(batch.mask, shape_config, -1), configs, has_emitters)
-                batch_rt, batch_counts = trace_effects(scene, hits.ray, hits.si, selection.traced, settings.effects,
-                                                       settings.max_depth, settings.rr_depth, settings.hide_emitters,
-                                                       seed=(int(seed) << 32) + sample, first_effects=configs,
-                                                       first_config=selection.config, freeze=settings.freeze,
-                                                       shape_index=hits.shape_index, n_shapes=len(names))
-                rt += batch_rt
-                traced |= selection.traced
-                dr.eval(rt, traced)
-                dr.sync_thread()
-                batch_ms = (time.perf_counter() - batch_start) * 1e3
-                if not batch_counts.recorded:  # a recording's time is a one-off, not the tracing cost
-                    state.cost_model.observe(batch_counts.rays, batch_ms, expected=batch.rays)
-                for k, n in batch.pixels.items():
-                    state.learn_rays(k, n, batch_counts.per_object.get(k, dict.fromkeys(RAY_KINDS, 0)))
-                counts.add(batch_counts)
-                stats.pixels_traced += selection.count
-                stats.predicted_trace_ms += float(predicted)
-                stats.predicted_rays += int(sum(batch.rays.values()))
-                batches_ms += batch_ms
-            clock.lap("trace", rt, traced)
-            state.learn_overhead((time.perf_counter() - stage_start) * 1e3, batches_ms)
+    def _account(self, settings: HybridSettings, frame: _Frame, plan: FramePlan | None, state: FrameState,
+                 passes: list[PassCounts]) -> None:
+        """After the frame's synchronization: its statistics, and what the next frame learns."""
+        stats, n = frame.stats, len(self.objects)
+        stats.times_ms.update(self.clock.frame_times())
+        if settings.primary == "raster":
+            stats.times_ms["gl"] = sum(q.elapsed for q in self._gl_queries[:len(passes)]) * 1e-6
+            stats.times_ms["raster"] += stats.times_ms["gl"]
+            stats.readback = self.raster.readback
+        else:
+            stats.rays["camera"] = len(passes) * frame.camera.width * frame.camera.height
+        per_object = sum(p.rays for p in passes)  # objects × kinds
+        stats.rays.update(zip(RAY_KINDS, (int(v) for v in per_object.sum(axis=0))))
+        stats.pixels_traced = sum(p.pixels for p in passes)
+        stats.proxy_refinements = sum(p.proxy_refined for p in passes)
+        stats.edge_refinements = sum(p.edge_refined for p in passes)
+        cov = Coverage.of(passes[0].coverage, frame.camera.width, frame.camera.height, n)
+        if plan is None:  # no budget: every visible candidate was traced; most relevant first
+            terms = visibility_terms(cov, frame.kinds, settings.effects, state.selected, settings.importance)
+            visible = np.nonzero(terms.candidate)[0]
+            ordered = [int(k) for k in visible[np.argsort(-terms.relevance[visible], kind="stable")]]
+            planned = set(ordered)
+            stats.candidates_visible = len(ordered)
+        else:
+            ordered = [o.index for o in plan.objects if o.index in plan.traced and cov.pixels[o.index] > 0]
+            planned = plan.traced
+            total = sum(o.relevance for o in plan.objects)
+            stats.candidates_visible = len(plan.objects)
+            stats.relevance_captured = float(sum(o.relevance for o in plan.objects if o.index in ordered) / total) if total > 0 else 1.0
+            stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if plan.traced else 0.0
+            stats.predicted_rays = int(sum(plan.rays.values()) * len(passes))
+            if plan.traced:
+                state.cost_model.observe(dict(zip(RAY_KINDS, per_object.sum(axis=0) / len(passes))),
+                                         stats.times_ms["trace"] / len(passes), expected=plan.rays)
+            elif plan.objects:
+                state.cost_model.forget_slowest()
+        for k in ordered:
+            state.learn_rays(k, int(cov.pixels[k]) * len(passes), dict(zip(RAY_KINDS, map(int, per_object[k]))))
+        stats.selected = tuple(self.objects.names[k] for k in ordered)
+        stats.selection_changes = len(planned ^ state.selected)
+        state.selected = set(planned)
+        state.coverage = cov
 
-            # 5. composition (§5), splatted like a camera ray through the same film position
-            color = compose(raster, rt, traced, settings.blend)
-            alpha = dr.select(hits.valid | (scene.environment() is not None and not settings.hide_emitters), 1.0, 0.0)
-            pos = pixel if box else pixel + mi.Vector2f(*(dr.opaque(mi.Float, o) for o in offset))
-            image_block.put(pos, [color.x, color.y, color.z] + ([alpha] if has_alpha else []) + [mi.Float(1.0)])
-            layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(traced, 1.0, 0.0), mi.Float(1.0)])
-            clock.lap("compose", image_block.tensor(), layer_block.tensor())  # the splats are lazy too
 
-        film.put_block(image_block)
-        image = film.develop()
-        dr.eval(image)
-        dr.sync_thread()
-        stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
-        stats.rays.update(counts.rays)
-        self._record_selection(plan, state, stats, names)
-        sums = np.array(layer_block.tensor())
-        weight = np.maximum(sums[..., 7:8], 1e-12)
-        layers = {"raster": sums[..., 0:3] / weight, "rt": sums[..., 3:6] / weight, "traced": sums[..., 6] / weight[..., 0],
-                  **first_targets}
-        return HybridResult(image=image, layers=layers, stats=stats)
+def sum_tensors(tensors: list):
+    """The sum of the passes' tensors (one pass: itself)."""
+    out = tensors[0]
+    for t in tensors[1:]:
+        out = out + t
+    return out
 
-    def _plan(self, hits: PrimaryHits, camera: RasterCamera, kinds, names, settings: HybridSettings,
-              state: FrameState, spp: int) -> FramePlan:
-        """Eq. 1–3 from this pass's primary hits, then the selection within the budget."""
-        depth = dr.norm(hits.si.p - mi.Point3f(*(float(c) for c in camera.eye)))
-        cov = coverage(hits.shape_index, hits.valid, depth, camera.width, camera.height, len(names))
-        objects = object_relevance(cov, kinds, names, settings.effects, state.selected, settings.importance,
-                                   state.rays_per_pixel)
-        return plan_frame(objects, len(names), settings.selection, settings.budget_ms, spp, state.cost_model,
-                          overhead_ms=state.overhead_ms)
 
-    @staticmethod
-    def _record_selection(plan: FramePlan, state: FrameState, stats: FrameStats, names) -> None:
-        traced = plan.traced
-        ordered = [o for o in plan.objects if o.index in traced]
-        total = sum(o.relevance for o in plan.objects)
-        stats.candidates_visible = len(plan.objects)
-        stats.selected = tuple(names[o.index] for o in ordered)
-        stats.relevance_captured = float(sum(o.relevance for o in ordered) / total) if total > 0 else 1.0
-        stats.selection_changes = len(traced ^ state.selected)
-        stats.batches = len(plan.batches)
-        state.selected = traced
-        if plan.objects and not traced and plan.pass_budget_ms < float("inf"):
-            state.cost_model.forget_slowest()
+def _image(channels: list[mi.Float], camera: RasterCamera) -> np.ndarray:
+    """A G-buffer target of the first pass as an (H, W, C) float32 image."""
+    return np.stack([np.array(c, dtype=np.float32) for c in channels], axis=-1).reshape(camera.height, camera.width, -1)

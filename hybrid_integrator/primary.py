@@ -1,23 +1,29 @@
 """Primary hits: from a visibility buffer to exact Mitsuba surface interactions (paper §3.2).
 
 The hybrid's ray tracer starts where the rasterizer stopped. For every pixel the visibility buffer
-names the shape, the triangle and the barycentrics of the first hit; a Mitsuba
-``PreliminaryIntersection3f`` built from them and completed with
-``compute_surface_interaction`` against the real camera ray is the *same* interaction Mitsuba's own
-ray tracer would have produced (position from the barycentrics, shading frame, UVs, ``wi``), so the
-secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
+names the frontmost triangle (a global number, ``raster.visibility``); tables made once per scene
+say which shape and object it belongs to, and the pixel's own camera ray is intersected with that
+one triangle (Möller–Trumbore, Mitsuba's ``prim_uv`` convention p = (1 − u − v) p0 + u p1 + v p2),
+which gives the barycentrics and the distance the ray tracer would find. A Mitsuba
+``PreliminaryIntersection3f`` built from them and completed with ``compute_surface_interaction``
+against the same camera ray is the *same* interaction Mitsuba's own ray tracer produces (shading
+frame, UVs, ``wi``), so the secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
 
-Two kinds of pixel are *refined*, i.e. their primary hit is re-found by tracing their camera ray
-(``ray_intersect_preliminary``) instead of trusting the raster, and both are counted in the frame
-statistics:
+Some pixels are *refined*: their primary hit is re-found by tracing their camera ray
+(``ray_intersect_preliminary``, in the same kernel, only on those lanes), and they are counted in
+the frame statistics:
 
 - pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
   be there;
-- *silhouette* pixels, whose 4-neighbourhood shows another shape or the background. The
-  rasterizer snaps vertices to a fixed-point sub-pixel grid (1/256 pixel on Mesa), so a sample
-  lying that close to an object's outline can land on the wrong side of it; on a straight outline
-  aligned with the pixel grid this flips a whole column at once. Within one shape the same
-  mistake only swaps two triangles that share the edge, which changes nothing visible.
+- *silhouette* pixels, whose 4-neighbourhood shows another object or the background. The
+  rasterizer snaps vertices to a fixed-point sub-pixel grid (1/256 pixel), so a sample lying that
+  close to an object's outline can land on the wrong side of it; on a straight outline aligned
+  with the pixel grid this flips a whole column at once;
+- pixels whose camera ray misses the raster's triangle by more than the snapping can explain
+  (``MISS_TOLERANCE`` in barycentric units).
+
+Within one object a sample on a shared edge may name either triangle: the intersection with the
+named one, clamped into it, is the same point.
 """
 from __future__ import annotations
 
@@ -28,7 +34,12 @@ import mitsuba as mi
 import numpy as np
 
 from .cache import scene_state
-from .raster.camera import RasterCamera
+from .objects import object_indices
+from .raster.visibility import TriangleTables
+
+#: how far outside its raster triangle (in barycentric units) a camera ray may pass before the
+#: pixel is re-traced
+MISS_TOLERANCE = 1e-3
 
 
 @dataclass
@@ -37,85 +48,158 @@ class PrimaryHits:
 
     ray: mi.Ray3f
     si: mi.SurfaceInteraction3f
-    #: index into ``scene.shapes()`` of each pixel's hit (after proxy refinement)
-    shape_index: mi.UInt32
+    #: index into ``scene.shapes()`` of each pixel's hit
+    shape: mi.UInt32
+    #: index of each pixel's object (``objects.SceneObjects``)
+    object: mi.UInt32
     #: the pixel's first hit is a surface (background pixels and proxy misses are False)
     valid: mi.Bool
-    #: pixels whose hit came from a ray because the raster saw an analytic shape's proxy
-    proxy_refined: int = 0
-    #: silhouette pixels whose hit came from a ray (see the module docstring)
-    edge_refined: int = 0
+    #: pixels whose hit came from a ray, on the device: [analytic shape proxies, silhouettes and
+    #: raster misses] (module docstring)
+    refined: mi.UInt32
 
 
-def camera_rays(sensor: mi.Sensor, camera: RasterCamera, offset: tuple[float, float]) -> mi.Ray3f:
-    """Mitsuba's camera rays through every pixel at sub-pixel ``offset`` (the rays the raster
-    stands in for, and the primary rays of the pure ray-tracing baseline)."""
-    index = dr.arange(mi.UInt32, camera.width * camera.height)
-    # opaque: the offset changes every pass, and a literal would recompile the kernel each time
-    ox, oy = (dr.opaque(mi.Float, float(o)) for o in offset)
-    position = mi.Point2f((mi.Float(index % camera.width) + ox) / camera.width,
-                          (mi.Float(index // camera.width) + oy) / camera.height)
+def camera_rays(sensor: mi.Sensor, width: int, height: int, offset) -> mi.Ray3f:
+    """Mitsuba's camera rays through every pixel of a ``width`` × ``height`` film at sub-pixel
+    ``offset`` (the rays the raster stands in for, and the primary rays of the pure ray-tracing
+    baseline). ``offset`` is a pair of floats or a ``mi.Point2f`` (as the device pass passes it)."""
+    index = dr.arange(mi.UInt32, width * height)
+    if not isinstance(offset, mi.Point2f):
+        # opaque: the offset changes every pass, and a literal would recompile the kernel each time
+        offset = mi.Point2f(*(dr.opaque(mi.Float, float(o)) for o in offset))
+    position = mi.Point2f((mi.Float(index % width) + offset.x) / width, (mi.Float(index // width) + offset.y) / height)
     ray, _ = sensor.sample_ray(0.0, 0.5, position, mi.Point2f(0.5, 0.5))
     return ray
 
 
-def shape_indices(scene: mi.Scene, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UInt32:
-    """Index into ``scene.shapes()`` of each lane's ``shape`` pointer.
+def shape_indices(table: mi.UInt32, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UInt32:
+    """Index into ``scene.shapes()`` of each lane's ``shape`` pointer (``table``: :func:`shape_table`).
 
     ``PreliminaryIntersection3f.shape_index`` is filled by the LLVM backend's ray tracer but not by
     OptiX, so indices are recovered from the pointers themselves: a shape pointer is an id in
     Dr.Jit's registry, mapped back through a small lookup table."""
-    table = scene_state(scene, "shape_table", lambda: _shape_table(scene))
     return dr.gather(mi.UInt32, table, dr.reinterpret_array(mi.UInt32, shape), valid)
 
 
-def _shape_table(scene: mi.Scene) -> mi.UInt32:
+def shape_table(scene: mi.Scene) -> mi.UInt32:
     """Registry id of each shape → its index in ``scene.shapes()`` (read once per scene)."""
+    return scene_state(scene, "shape_table", lambda: _shape_table(scene))
+
+
+def _shape_table(scene: mi.Scene) -> mi.UInt32:
     ids = np.array(dr.reinterpret_array(mi.UInt32, scene.shapes_dr()), dtype=np.int64)
-    table = np.zeros(ids.max() + 1, dtype=np.uint32)
+    table = np.zeros(ids.max() + 1 if ids.size else 1, dtype=np.uint32)
     table[ids] = np.arange(len(ids), dtype=np.uint32)
     return mi.UInt32(table)
 
 
-def silhouettes(shape_id: mi.UInt32, width: int, height: int) -> mi.Bool:
-    """Pixels with a 4-neighbour inside the image that shows another shape (or the background);
-    ``shape_id`` per pixel, row-major."""
+def silhouettes(label: mi.UInt32, width: int, height: int) -> mi.Bool:
+    """Pixels with a 4-neighbour inside the image whose ``label`` (per pixel, row-major: an object
+    number, 0 for the background) differs."""
     i = dr.arange(mi.UInt32, width * height)
     x, y = i % width, i // width
     edge = mi.Bool(False)
     for inside, j in ((x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)):
-        edge |= inside & (dr.gather(mi.UInt32, shape_id, j, inside) != shape_id)
+        edge |= inside & (dr.gather(mi.UInt32, label, j, inside) != label)
     return edge
 
 
-def primary_hits(scene: mi.Scene, sensor: mi.Sensor, camera: RasterCamera, words: mi.UInt32, distance: mi.Float,
-                 offset: tuple[float, float], is_proxy: np.ndarray) -> PrimaryHits:
-    """Rebuild Mitsuba's surface interactions from the raster targets (``Rasterizer.read_targets``,
-    uploaded as they are), decoded on the device; ``is_proxy`` flags each scene shape drawn as a
-    proxy."""
-    ray = camera_rays(sensor, camera, offset)
-    i = dr.arange(mi.UInt32, camera.width * camera.height)
-    shape_id = dr.gather(mi.UInt32, words, 4 * i)  # 0: background
-    hit = shape_id > 0
-    shape_index = dr.select(hit, shape_id - 1, 0)
-    proxy = hit & dr.gather(mi.Bool, mi.Bool(is_proxy), shape_index, hit) if is_proxy.size else mi.Bool(False)
-    edge = silhouettes(shape_id, camera.width, camera.height) & ~proxy
+def ray_triangle(ray: mi.Ray3f, p0: mi.Point3f, p1: mi.Point3f, p2: mi.Point3f) -> tuple[mi.Float, mi.Point2f]:
+    """Distance along ``ray`` to the plane of triangle (p0, p1, p2) and the barycentrics (u, v) of
+    that point, Mitsuba's ``prim_uv`` (Möller–Trumbore, as ``Mesh::ray_intersect_triangle``)."""
+    e1, e2 = p1 - p0, p2 - p0
+    pvec = dr.cross(ray.d, e2)
+    inv_det = dr.rcp(dr.dot(e1, pvec))
+    tvec = ray.o - p0
+    qvec = dr.cross(tvec, e1)
+    return dr.dot(e2, qvec) * inv_det, mi.Point2f(dr.dot(tvec, pvec) * inv_det, dr.dot(ray.d, qvec) * inv_det)
+
+
+@dataclass
+class RasterRecord:
+    """A visibility buffer resolved on the device, before any refinement: the raster's own answer."""
+
+    hit: mi.Bool  # the raster drew a triangle here (and it is within the sensor's far clip)
+    shape: mi.UInt32
+    object: mi.UInt32
+    prim: mi.UInt32  # triangle index within the shape (0 on a proxy)
+    t: mi.Float  # distance along the camera ray
+    uv: mi.Point2f  # barycentrics, clamped into the triangle
+    inside: mi.Bool  # the camera ray passes through the triangle (up to MISS_TOLERANCE)
+
+
+def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> RasterRecord:
+    """The raster's answer per pixel from its triangle numbers (``Rasterizer.read_ids``)."""
+    hit = triangle_id > 0
+    triangle = dr.select(hit, triangle_id - 1, 0)
+    shape = dr.gather(mi.UInt32, tables.shape, triangle, hit)
+    corners = dr.gather(mi.Vector3u, tables.faces, triangle, hit)
+    p0, p1, p2 = (dr.gather(mi.Point3f, tables.vertices, corners[k], hit) for k in range(3))
+    t, uv = ray_triangle(ray, p0, p1, p2)
+    inside = (uv.x >= -MISS_TOLERANCE) & (uv.y >= -MISS_TOLERANCE) & (uv.x + uv.y <= 1.0 + MISS_TOLERANCE) & (t > 0)
+    hit &= ~(inside & (t > ray.maxt))  # beyond the far clip: background, as for the camera ray
+    uv = dr.maximum(uv, 0.0)
+    uv /= dr.maximum(uv.x + uv.y, 1.0)  # clamped into the triangle: raster samples sit on its edges too
+    proxy = dr.gather(mi.Bool, tables.proxy, shape, hit)
+    return RasterRecord(hit=hit, shape=shape, object=dr.gather(mi.UInt32, tables.object, triangle, hit),
+                        prim=dr.select(proxy, 0, triangle - dr.gather(mi.UInt32, tables.first_triangle, shape, hit)),
+                        t=t, uv=uv, inside=inside)
+
+
+def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
+                 tables: TriangleTables) -> PrimaryHits:
+    """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
+    ``ray`` of a ``width`` × ``height`` frame."""
+    record = resolve(triangle_id, ray, tables)
+    proxy = record.hit & dr.gather(mi.Bool, tables.proxy, record.shape, record.hit)
+    edge = (silhouettes(dr.select(record.hit, record.object + 1, 0), width, height)
+            | (record.hit & ~record.inside)) & ~proxy
     refine = proxy | edge
-    raster_hit = hit & ~refine
-    # Mitsuba's camera rays start on the near plane; the raster measures from the eye
-    near_t = dr.norm(ray.o - mi.Point3f(*(float(c) for c in camera.eye)))
+    raster_hit = record.hit & ~refine
 
     pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))
-    pi.t = dr.select(raster_hit, distance - near_t, dr.inf)
-    pi.prim_uv = mi.Point2f(*(dr.reinterpret_array(mi.Float, dr.gather(mi.UInt32, words, 4 * i + k)) for k in (2, 3)))
-    pi.prim_index = dr.gather(mi.UInt32, words, 4 * i + 1)
-    pi.shape_index = shape_index
-    pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), shape_index, raster_hit)
+    pi.t = dr.select(raster_hit, record.t, dr.inf)
+    pi.prim_uv = record.uv
+    pi.prim_index = record.prim
+    pi.shape_index = record.shape
+    pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), record.shape, raster_hit)
     pi.valid = raster_hit
-    pi = dr.select(refine, scene.ray_intersect_preliminary(ray, False, refine), pi)
+    traced = scene.ray_intersect_preliminary(ray, False, refine)
+    pi = dr.select(refine, traced, pi)
     valid = pi.is_valid()
+    shape = dr.select(refine, shape_indices(tables.pointer_shape, pi.shape, valid), record.shape)
+    obj = dr.select(refine, object_indices(tables.object, tables.first_triangle, shape, pi.prim_index, valid),
+                    record.object)
     si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
-    counts = dr.count(proxy), dr.count(edge)
-    dr.eval(*counts)
-    return PrimaryHits(ray=ray, si=si, shape_index=shape_indices(scene, pi.shape, valid), valid=valid,
-                       proxy_refined=int(dr.ravel(counts[0])[0]), edge_refined=int(dr.ravel(counts[1])[0]))
+    refined = dr.zeros(mi.UInt32, 2)  # counted in the same kernel
+    dr.scatter_reduce(dr.ReduceOp.Add, refined, 1, 0, proxy)
+    dr.scatter_reduce(dr.ReduceOp.Add, refined, 1, 1, edge)
+    return PrimaryHits(ray=ray, si=si, shape=shape, object=obj, valid=valid, refined=refined)
+
+
+def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> PrimaryHits:
+    """The pure ray-tracing baseline's primary hits (paper §8): Mitsuba's camera rays traced."""
+    si = scene.ray_intersect(ray)
+    valid = si.is_valid()
+    shape = shape_indices(tables.pointer_shape, si.shape, valid)
+    return PrimaryHits(ray=ray, si=si, shape=shape, valid=valid, refined=dr.zeros(mi.UInt32, 2),
+                       object=object_indices(tables.object, tables.first_triangle, shape, si.prim_index, valid))
+
+
+def visibility_buffer(ray: mi.Ray3f, triangle_id: mi.UInt32, tables: TriangleTables, eye, size: tuple[int, int],
+                      offset: tuple[float, float]):
+    """The raster's own answer (:func:`resolve`, no refinement) as a host ``VisibilityBuffer``:
+    object index, triangle, barycentrics and distance from the eye per pixel."""
+    from .raster.visibility import VisibilityBuffer
+
+    w, h = size
+    record = resolve(triangle_id, ray, tables)
+    proxy = record.hit & dr.gather(mi.Bool, tables.proxy, record.shape, record.hit)
+    depth = record.t + dr.norm(ray.o - mi.Point3f(*(float(c) for c in eye)))  # camera rays start on the near plane
+    hit = np.array(record.hit).reshape(h, w)
+    return VisibilityBuffer(
+        shape_index=np.where(hit, np.array(record.object, dtype=np.int64).reshape(h, w), -1).astype(np.int32),
+        prim_index=np.where(hit, np.array(record.prim).reshape(h, w), 0).astype(np.uint32),
+        bary=np.where(hit[..., None], np.stack([np.array(record.uv.x), np.array(record.uv.y)], -1).reshape(h, w, 2), 0.0).astype(np.float32),
+        depth=np.where(hit, np.array(depth).reshape(h, w), np.inf).astype(np.float32),
+        proxy=np.array(proxy).reshape(h, w), offset=(float(offset[0]), float(offset[1])))

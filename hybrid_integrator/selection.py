@@ -14,7 +14,7 @@ refraction    delta or glossy transmission, or a null lobe      BSDF-sampled ref
 indirect      diffuse reflection or transmission                BSDF-sampled diffuse rays
 ============  ===============================================  ============================
 
-A pixel is traced when its shape is selected this frame (``heuristic.py``, ``budget.py``: the
+A pixel is traced when its object is selected this frame (``heuristic.py``, ``budget.py``: the
 candidates of §4.1 narrowed by the relevance/cost heuristic) and it needs at least one of the
 effects its object deserves; every other pixel shows the raster layer (§5).
 """
@@ -24,17 +24,10 @@ from dataclasses import dataclass
 
 import drjit as dr
 import mitsuba as mi
-import numpy as np
-
 from .errors import HybridError
 
 EFFECTS = ("shadow", "reflection", "refraction", "indirect")
 DEFAULT_EFFECTS = ("shadow", "reflection", "refraction")
-
-
-def count(mask: mi.Bool) -> int:
-    """Number of set lanes, on the host."""
-    return int(dr.ravel(dr.count(mask))[0])
 
 
 def lobes(effects: tuple[str, ...]) -> int:
@@ -60,11 +53,10 @@ def parse_effects(value) -> tuple[str, ...]:
 
 @dataclass(frozen=True)
 class Selection:
-    """Per-pixel outcome of the selection stage for one pass."""
+    """Per-pixel outcome of the selection stage for one pass (on the device)."""
 
     traced: mi.Bool  # the pixel's primary hit is ray traced
     config: mi.UInt32  # which of the effect sets its object deserves (an index into ``configs``)
-    count: int  # number of traced pixels
 
 
 def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.Bool:
@@ -78,17 +70,30 @@ def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.
     return need
 
 
-def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, shape_index: mi.UInt32, valid: mi.Bool,
-                  shape_config: np.ndarray, configs: tuple[tuple[str, ...], ...], has_emitters: bool) -> Selection:
-    """Traced pixels: pixels of the selected shapes (``shape_config`` ≥ 0, per scene shape: the
-    index of the shape's effect set in ``configs``) whose BSDF needs one of those effects."""
-    if not shape_config.size or shape_config.max() < 0:
-        return Selection(traced=dr.zeros(mi.Bool, dr.width(valid)), config=dr.zeros(mi.UInt32, dr.width(valid)), count=0)
-    config = dr.gather(mi.Int32, mi.Int32(shape_config.astype(np.int32)), shape_index, valid)
-    config = dr.select(valid, config, -1)
+def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, valid: mi.Bool,
+                  object_config: mi.Int32, configs: tuple[tuple[str, ...], ...], has_emitters: bool) -> Selection:
+    """Traced pixels: pixels of the selected objects (``object_config`` ≥ 0, per object: the index
+    of the object's effect set in ``configs``; −1: not traced this frame) whose BSDF needs one of
+    those effects. ``object_config`` is data, not code: a new selection reuses the same kernels."""
+    config = dr.select(valid, dr.gather(mi.Int32, object_config, obj, valid), -1)
     flags = si.bsdf(ray).flags()
     traced = mi.Bool(False)
     for k, effects in enumerate(configs):  # every set, selected or not: the same kernel every frame
         traced |= (config == k) & needs(flags, effects, has_emitters)
-    traced &= valid
-    return Selection(traced=traced, config=mi.UInt32(dr.maximum(config, 0)), count=count(traced))
+    return Selection(traced=traced & valid, config=mi.UInt32(dr.maximum(config, 0)))
+
+
+def compact(mask: mi.Bool) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
+    """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
+    the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
+    arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
+    once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
+    ``n`` back to the host to size its result. Returns (index, lane active, n as a 1-element array)."""
+    flags = mi.UInt32(mask)
+    slot = dr.prefix_sum(flags)
+    last = dr.width(mask) - 1
+    n = dr.gather(mi.UInt32, slot, mi.UInt32(last)) + dr.gather(mi.UInt32, flags, mi.UInt32(last))
+    lane = dr.arange(mi.UInt32, dr.width(mask))
+    index = dr.zeros(mi.UInt32, dr.width(mask))
+    dr.scatter(index, lane, slot, mask)
+    return index, lane < n, n

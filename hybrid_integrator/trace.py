@@ -12,12 +12,12 @@ the paths are those of Mitsuba's ``path`` integrator, restricted to the enabled 
   are followed are MIS-weighted against emitter sampling, lobes that are not are left entirely to
   emitter sampling. With all four effects every lobe is followed and the estimator is ``path``'s.
 
-Only the selected pixels are traced: they are compacted (``dr.compress``) before the path loop,
-so the cost follows the selection, and the rays are counted by kind. The loop is one symbolic
-Dr.Jit loop; with ``freeze`` it is frozen with ``dr.freeze`` so that later frames replay its
-kernels. Random numbers come from a PCG32 stream per pixel and pass (seeded by the pixel's index),
-so a pixel's paths do not depend on which other pixels are traced, nor on where its primary hit
-came from.
+Only the selected pixels are traced: they are compacted on the device (``selection.compact``)
+before the path loop, so the cost follows the selection, and the rays are counted by kind and
+object. The loop is one symbolic Dr.Jit loop, part of the frame's frozen device pass
+(``pipeline.py``). Random numbers come from a PCG32 stream per pixel and pass (seeded by the
+pixel's index), so a pixel's paths do not depend on which other pixels are traced, nor on where
+its primary hit came from.
 """
 from __future__ import annotations
 
@@ -25,25 +25,19 @@ from dataclasses import dataclass, field
 
 import drjit as dr
 import mitsuba as mi
-import numpy as np
-
 from .selection import EFFECTS as RAY_KINDS  # one kind of secondary ray per effect
+from .selection import compact
 from .selection import lobes as followed_lobes
 
 
 @dataclass
 class TraceCounts:
-    """Secondary rays traced, by kind."""
+    """Secondary rays of one pass, per object and kind, left on the device: ``per_object[k·n + i]``
+    counts the rays of kind ``RAY_KINDS[k]`` spawned from object ``i``'s pixels, at every depth
+    (n: the scene's object count)."""
 
-    rays: dict[str, int] = field(default_factory=lambda: dict.fromkeys(RAY_KINDS, 0))
-    #: rays per kind of each object traced ({shape index: {kind: rays}}), where asked for
-    per_object: dict[int, dict[str, int]] = field(default_factory=dict)
-    #: the call recorded a frozen function (its time is a one-off, not the tracing cost)
-    recorded: bool = False
-
-    def add(self, other: "TraceCounts") -> None:
-        for k, v in other.rays.items():
-            self.rays[k] += v
+    per_object: mi.UInt32
+    pixels: mi.UInt32  # traced pixels (a 1-element array)
 
 
 def _mis(a, b):
@@ -79,80 +73,39 @@ class Lobes:
 
 def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, traced: mi.Bool,
                   effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool, *,
-                  seed: int, shape_index: mi.UInt32, n_shapes: int,
-                  first_effects: tuple[tuple[str, ...], ...] | None = None, first_config: mi.UInt32 | None = None,
-                  freeze: bool = False) -> tuple[mi.Color3f, TraceCounts]:
+                  seed: mi.UInt64, obj: mi.UInt32, n_objects: int,
+                  first_effects: tuple[tuple[str, ...], ...] | None = None,
+                  first_config: mi.UInt32 | None = None) -> tuple[mi.Color3f, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
-    primary rays and hits of every pixel, ``seed`` distinguishes passes.
+    primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
 
     The rays spawned at the primary hit are the kinds its object deserves (§4.1): pixel ``i``
     uses ``first_effects[first_config[i]]`` (default: ``effects`` everywhere), so objects with
-    different kinds are traced in one call; deeper vertices use ``effects``. ``freeze`` replays
-    the path loop's recorded kernels (:func:`_run_paths`). The rays are counted per object
-    (``shape_index`` per pixel, of ``n_shapes``): what the cost model learns from."""
-    radiance = dr.zeros(mi.Color3f, dr.width(traced))
-    pixel = dr.compress(traced)  # only the selected pixels are traced: cost follows the selection
-    if dr.width(pixel) == 0:
-        return radiance, TraceCounts()
-    ray = dr.gather(mi.Ray3f, ray, pixel)
-    si = dr.gather(mi.SurfaceInteraction3f, si, pixel)
+    different kinds are traced in one call; deeper vertices use ``effects``. The traced pixels are
+    compacted first (``selection.compact``), so the paths run on the first lanes only. The rays
+    are counted per object (``obj`` per pixel, of ``n_objects``): what the cost model learns from."""
+    n = dr.width(traced)
+    width = max(n_objects, 1)
+    if first_effects == ():  # no object deserves any effect: nothing can be traced
+        return dr.zeros(mi.Color3f, n), TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width),
+                                                    pixels=mi.UInt32(0))
+    pixel, active, count = compact(traced)  # only the selected pixels are traced: cost follows the selection
+    ray = dr.gather(mi.Ray3f, ray, pixel, active)
+    si = dr.gather(mi.SurfaceInteraction3f, si, pixel, active)
     first = tuple(Lobes.of(e) for e in (first_effects if first_effects is not None else (effects,)))
     # the lobe set of each traced pixel (None: one set for all)
-    config = dr.gather(mi.UInt32, first_config, pixel) if len(first) > 1 else None
-    # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane
-    # offset; the pass seed is opaque so that the kernel is not recompiled every pass
-    rng = mi.PCG32(dr.width(pixel))
-    rng.seed(dr.opaque(mi.UInt64, seed), mi.UInt64(pixel))
-    rest = Lobes.of(effects)
-    recorded = False
-    if freeze:
-        L, rays, recorded = _run_paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
-    else:
-        L, rays = _paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
-    dr.scatter(radiance, L, pixel)
-    objects = dr.gather(mi.UInt32, shape_index, pixel)
-    per_object = [dr.zeros(mi.UInt32, n_shapes) for _ in rays]
-    for target, r in zip(per_object, rays):
-        dr.scatter_reduce(dr.ReduceOp.Add, target, r, objects)
-    dr.eval(radiance, *per_object)
-    table = np.stack([np.array(t, dtype=np.int64) for t in per_object], axis=1)  # shapes × kinds
-    traced = np.nonzero(table.sum(axis=1) > 0)[0]
-    return radiance, TraceCounts(dict(zip(RAY_KINDS, (int(v) for v in table.sum(axis=0)))),
-                                 per_object={int(k): dict(zip(RAY_KINDS, map(int, table[k]))) for k in traced},
-                                 recorded=recorded)
-
-
-#: the path loop, frozen (``dr.freeze``) once per configuration of its static arguments
-_FROZEN: dict[tuple, object] = {}
-
-
-def _run_paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, config: mi.UInt32 | None,
-               first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
-    """(radiance, rays, whether this call recorded). ``_paths`` with its static arguments bound, as a frozen function: the first call records its
-    kernel launches, later calls replay them (any number of pixels), skipping the Python tracing
-    and code generation that dominate a call on a scene of a few hundred shapes (the shape and BSDF
-    virtual calls make the kernel large): 202 → 15 ms per frame on the CPU, docs/results. Where Dr.Jit cannot record it (it
-    refuses virtual calls on objects it cannot reach from the inputs), the loop runs unfrozen:
-    the same result, only slower.
-
-    Opt-in (the integrator's ``freeze`` property): a replay dispatches virtual calls through the
-    object registry as it was when recorded. With one scene per process (a renderer, a benchmark)
-    results equal the unfrozen loop's; in a process that creates and destroys other Mitsuba
-    objects between frames (a test session) they were seen to differ in a few dozen of 10⁵ rays."""
-    key = (id(scene), tuple(f.key() for f in first), rest.key(), max_depth, rr_depth, hide_emitters)
-    frozen = _FROZEN.get(key)
-    if frozen is None and key not in _FROZEN:
-        def paths(scene, ray, si, rng, config):
-            return _paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters)
-        frozen = _FROZEN[key] = dr.freeze(paths)
-    if frozen is not None:
-        before = frozen.n_recordings
-        try:
-            L, rays = frozen(scene, ray, si, rng, config)
-            return L, rays, frozen.n_recordings != before
-        except RuntimeError:
-            _FROZEN[key] = None  # not recordable: run unfrozen from now on
-    return (*_paths(scene, ray, si, rng, config, first, rest, max_depth, rr_depth, hide_emitters), False)
+    config = dr.gather(mi.UInt32, first_config, pixel, active) if len(first) > 1 else None
+    # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane offset
+    rng = mi.PCG32(n)
+    rng.seed(dr.gather(mi.UInt64, seed, 0), mi.UInt64(pixel))
+    L, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
+    radiance = dr.zeros(mi.Color3f, n)
+    dr.scatter(radiance, L, pixel, active)
+    objects = dr.gather(mi.UInt32, obj, pixel, active)
+    per_object = dr.zeros(mi.UInt32, len(RAY_KINDS) * width)
+    for k, r in enumerate(rays):
+        dr.scatter_reduce(dr.ReduceOp.Add, per_object, r, k * width + objects, active)
+    return radiance, TraceCounts(per_object=per_object, pixels=mi.UInt32(count))
 
 
 @dataclass
@@ -258,16 +211,15 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
 
 @dr.syntax
 def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, config: mi.UInt32 | None,
-           first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
-    """The paths from the primary hits ``si``: the primary vertex with its object's own lobes
-    (``first[config]``), then
-    one symbolic Dr.Jit loop (as Mitsuba's ``path``) with the integrator's. Returns the radiance
-    and, per ray kind, the rays each lane traced."""
+           active: mi.Bool, first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
+    """The paths from the primary hits ``si`` of the ``active`` lanes: the primary vertex with its
+    object's own lobes (``first[config]``), then one symbolic Dr.Jit loop (as Mitsuba's ``path``)
+    with the integrator's. Returns the radiance and, per ray kind, the rays each lane traced."""
     n = dr.width(rng.state)
     depth_limit = max_depth if max_depth >= 0 else 2**31 - 1
-    emitted = dr.zeros(mi.Color3f, n) if hide_emitters else mi.Color3f(si.emitter(scene).eval(si))
+    emitted = dr.zeros(mi.Color3f, n) if hide_emitters else mi.Color3f(si.emitter(scene).eval(si, active))
     p = _Path(ray=ray, si=si, rng=rng, L=emitted, beta=dr.full(mi.Color3f, 1.0, n), eta=dr.full(mi.Float, 1.0, n),
-              depth=dr.zeros(mi.UInt32, n), active=dr.full(mi.Bool, True, n),
+              depth=dr.zeros(mi.UInt32, n), active=mi.Bool(active),
               rays=[dr.zeros(mi.UInt32, n) for _ in RAY_KINDS])
     _vertex(scene, p, first, config, depth_limit, rr_depth)
     # the loop's state variables, one by one, as dr.while_loop tracks them

@@ -13,7 +13,7 @@
         <float name="budget_ms" value="0"/>            <!-- ray-tracing time per frame; 0 = unlimited -->
         <string name="selection" value="greedy"/>      <!-- or "graph" (§4.2) or "exact" -->
         <float name="importance" value="0"/>           <!-- I of eq. 3 -->
-        <boolean name="freeze" value="false"/>         <!-- replay recorded kernels (dr.freeze) -->
+        <boolean name="freeze" value="true"/>          <!-- replay recorded kernels (dr.freeze) -->
     </integrator>
 
 Properties
@@ -23,23 +23,24 @@ Properties
                  the paper's "pure GPU ray tracer" baseline (§8).
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect``. With all
                  four the integrator converges to Mitsuba's ``path``.
-``candidates``   the pre-production candidates of §4.1: comma list of shape ids, each optionally
+``candidates``   the pre-production candidates of §4.1: comma list of object ids (the scene file's
+                 ``<shape>`` ids, ``hybrid_integrator/objects.py``), each optionally
                  with the ray kinds it deserves, ``"armadillo:refraction|shadow, floor:reflection"``
                  (default: every shape, kinds from its material; ``""``: none, the image is then the
                  raster layer). See ``hybrid_integrator/heuristic.py``.
 ``blend``        the composition weight of §5: traced pixels show ``blend·rt + (1−blend)·raster``.
-``budget_ms``    the frame's ray-tracing time budget in ms (0: unlimited; negative or NaN is an
-                 error). Objects are ranked by relevance (eq. 1-3), selected within the budget by
-                 ``selection`` with costs predicted by a cost model calibrated online, and traced
-                 in relevance order in batches that stop before the budget would overrun
-                 (``hybrid_integrator/budget.py``). The frame is always complete.
+``budget_ms``    the frame's ray-tracing time budget in ms of device time (0: unlimited; negative
+                 or NaN is an error). Objects are ranked by relevance (eq. 1-3, from the previous
+                 frame's visibility buffer), selected within the budget by ``selection`` with costs
+                 predicted by a cost model calibrated online on the measured trace time, and traced
+                 in one call (``hybrid_integrator/budget.py``). The frame is always complete.
 ``selection``    ``greedy`` (by relevance per cost, the default: it captured ≥ 99.5 % of the
                  optimum's relevance on random instances, docs/results), ``graph`` (the paper's
                  selection graph, §4.2-4.3) or ``exact`` (0/1 knapsack).
 ``importance``   I of eq. 3: relevance bonus of objects selected in the previous frame.
-``freeze``       replay the path loop's recorded kernels across frames (``dr.freeze``): ~13× less
-                 trace time on scenes of hundreds of shapes (docs/results). Opt-in: meant for one scene per
-                 process (see ``hybrid_integrator/trace.py``).
+``freeze``       record the frame's device pass once (``dr.freeze``) and replay its kernels in later
+                 frames instead of tracing its Python again (``hybrid_integrator/pipeline.py``); off:
+                 the same kernels, traced every frame (slower; for checking).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the
@@ -81,12 +82,13 @@ class HybridIntegrator(mi.SamplingIntegrator):
         self._params = {name: mi.Float(getattr(self.settings, name)) for name in ("blend", "budget_ms", "importance")}
 
     def render_result(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,
-                      aovs=()) -> HybridResult:
-        """Render a frame and return image, layers and statistics (``hi.render`` calls this)."""
+                      aovs=(), layers: bool = True) -> HybridResult:
+        """Render a frame and return image, layers (unless ``layers=False``) and statistics
+        (``hi.render`` calls this)."""
         from hybrid_integrator.api import renderer
 
         self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed), aovs=aovs,
-                                                  state=self.state)
+                                                  state=self.state, layers=layers)
         return self.last_result
 
     def render(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,

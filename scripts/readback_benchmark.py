@@ -1,9 +1,9 @@
-"""How the raster targets reach Dr.Jit: through the host against CUDA–OpenGL interop (issue 5).
+"""How the raster target reaches Dr.Jit: through the host against CUDA–OpenGL interop (issue 5).
 
 For one scene at one resolution, times (medians over ``--repeats``, backend synchronized) the
-visibility pass's targets being read to the host and uploaded (``Rasterizer.read_targets``) and
-being copied on the device (``Rasterizer.device_targets``, ``raster/interop.py``), after the raster
-pass itself has finished. Needs a CUDA variant for interop; elsewhere the second path is the host
+visibility pass's target (a triangle number per pixel) being read to the host and uploaded
+(``Rasterizer.read_ids``) and being copied on the device (``Rasterizer.device_ids``,
+``raster/interop.py``), after the raster pass itself has finished. Needs a CUDA variant for interop; elsewhere the second path is the host
 one again, and the report says so.
 
     python3 scripts/readback_benchmark.py --variant cuda_ad_rgb SCENE.xml -o docs/results/gpu/readback
@@ -40,17 +40,15 @@ def main() -> None:
     camera = RasterCamera.from_sensor(scene.sensors()[0])
 
     def host():
-        words, distance = raster.read_targets(fbo)
-        return mi.UInt32(words), mi.Float(distance)
+        return mi.UInt32(raster.read_ids(fbo))
 
     times = {"host_ms": [], "device_ms": []}
     for r in range(args.repeats + 1):  # the first uploads and compiles
-        for key, read in (("host_ms", host), ("device_ms", lambda: raster.device_targets(fbo))):
+        for key, read in (("host_ms", host), ("device_ms", lambda: raster.device_ids(fbo))):
             fbo = raster.render(camera)
             raster.ctx.finish()
             start = time.perf_counter()
-            arrays = read()
-            dr.eval(*arrays)
+            dr.eval(read())
             dr.sync_thread()
             if r:
                 times[key].append((time.perf_counter() - start) * 1e3)

@@ -1,11 +1,18 @@
-"""The fixed cost of one ray-tracing call on the many-object scene (issue 4).
+"""What a ray-tracing call costs: a fixed part plus a part linear in the pixels it traces (issue 10).
 
-Times (medians, backend synchronized) ``trace.trace_effects`` with ``freeze=True`` for 1, 100,
-1 000 and 10 000 traced pixels of one primary-hit buffer, then a frozen function that does nothing
-but take the scene as an argument (``lambda scene, x: x + 1``) against the same without the scene:
-how much of a call's cost is Dr.Jit replaying a frozen function over the scene's variables.
+On the many-object scene (loaded as the renderer loads it: meshes batched by material,
+``objects.py``), the camera rays' primary hits are computed once; then ``trace.trace_effects``
+(the shadow, reflection and refraction paths of the selected pixels, with the device-side
+compaction of ``selection.compact``) is frozen with ``dr.freeze`` as the frame's device pass is,
+and called for N = 1, 10, 100 … pixels and for every hit pixel. Per N: the median wall time of a
+call with the backend synchronized once, and its device time (Dr.Jit's kernel history: CUDA events
+on the GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
+the chart draws both. Then, for scale, the replay of a frozen function that does nothing but take
+the scene (``lambda scene, x: x + 1``): the part of any call that is Dr.Jit walking the scene's
+registered objects.
 
     python scripts/trace_overhead.py -o docs/results/cpu/trace_overhead
+    python3 scripts/trace_overhead.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/trace_overhead
 """
 from __future__ import annotations
 
@@ -18,26 +25,32 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def median_ms(fn, repeats: int) -> float:
+def timed(fn, repeats: int) -> tuple[float, float]:
+    """Median wall ms (one synchronization per call) and median device ms of ``fn()``."""
     import drjit as dr
 
     fn()  # compiles or records
     fn()  # a frozen function may record again with its literals made opaque
-    times = []
-    for _ in range(repeats):
-        dr.sync_thread()
-        start = time.perf_counter()
-        dr.eval(fn())
-        dr.sync_thread()
-        times.append((time.perf_counter() - start) * 1e3)
-    return statistics.median(times)
+    wall, device = [], []
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        for _ in range(repeats):
+            dr.sync_thread()
+            dr.kernel_history_clear()
+            start = time.perf_counter()
+            dr.eval(fn())
+            dr.sync_thread()
+            wall.append((time.perf_counter() - start) * 1e3)
+            device.append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
+    return statistics.median(wall), statistics.median(device)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--scene", type=Path, default=ROOT / "scenes/many_objects.xml")
-    parser.add_argument("--repeats", type=int, default=9)
+    parser.add_argument("--resx", type=int, default=320)
+    parser.add_argument("--resy", type=int, default=180)
+    parser.add_argument("--repeats", type=int, default=21)
     parser.add_argument("-o", "--output", type=Path, required=True)
     args = parser.parse_args()
 
@@ -47,38 +60,77 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
-    from hybrid_integrator.primary import camera_rays, shape_indices
-    from hybrid_integrator.raster.camera import RasterCamera
+    from hybrid_integrator.api import rasterizer
+    from hybrid_integrator.primary import camera_rays, traced_hits
     from hybrid_integrator.raster.context import machine
     from hybrid_integrator.trace import trace_effects
 
-    scene = hi.load_scene(args.scene, resx=320, resy=180)
-    sensor = scene.sensors()[0]
-    ray = camera_rays(sensor, RasterCamera.from_sensor(sensor), (0.5, 0.5))
-    si = scene.ray_intersect(ray)
-    valid = si.is_valid()
-    index = shape_indices(scene, si.shape, valid)
-    dr.eval(ray, si, valid, index)
-    hits = np.nonzero(np.array(valid))[0]
+    scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
+    n_objects = len(hi.scene_objects(scene))
+    hits = traced_hits(scene, camera_rays(scene.sensors()[0], args.resx, args.resy, (0.5, 0.5)), rasterizer(scene).tables)
+    dr.eval(hits.ray, hits.si, hits.valid, hits.object)
+    order = np.nonzero(np.array(hits.valid))[0]
     effects = ("shadow", "reflection", "refraction")
-    rows = {}
-    for n in (1, 100, 1000, 10000):
-        chosen = np.zeros(dr.width(valid), dtype=bool)
-        chosen[hits[:n]] = True
+
+    def call(scene, ray, si, traced, obj, seed):
+        rt, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
+        return rt, counts.per_object, counts.pixels
+
+    frozen = dr.freeze(call)
+    seed = dr.opaque(mi.UInt64, 1)
+    counts = [n for n in (1, 10, 100, 1000, 10000, 100000) if n < len(order)] + [len(order)]
+    rows = []
+    for n in counts:
+        chosen = np.zeros(dr.width(hits.valid), dtype=bool)
+        chosen[order[:n]] = True
         traced = mi.Bool(chosen)
-        rows[n] = median_ms(lambda: trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=1,
-                                                  shape_index=index, n_shapes=len(scene.shapes()), freeze=True)[0],
-                            args.repeats)
-    x = dr.arange(mi.Float, 10)
+        dr.eval(traced)
+        wall, device = timed(lambda: frozen(scene, hits.ray, hits.si, traced, hits.object, seed), args.repeats)
+        rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
+        print(rows[-1], flush=True)
+    x = np.array([r["pixels"] for r in rows], dtype=np.float64)
+    fits = {}
+    for key in ("wall_ms", "device_ms"):
+        slope, intercept = np.polyfit(x, [r[key] for r in rows], 1)
+        fits[key] = {"fixed_ms": float(intercept), "ms_per_1000_pixels": float(slope * 1e3)}
+    x1 = dr.arange(mi.Float, 10)
     with_scene, without = dr.freeze(lambda scene, x: x + 1), dr.freeze(lambda x: x + 1)
-    replay = {"with_scene_ms": median_ms(lambda: with_scene(scene, x), args.repeats),
-              "without_scene_ms": median_ms(lambda: without(x), args.repeats)}
-    report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --repeats {args.repeats}",
-              "machine": machine(), "shapes": len(scene.shapes()),
-              "trace_ms_by_pixels": rows, "frozen_replay": replay}
+    replay = {"with_scene_ms": timed(lambda: with_scene(scene, x1), args.repeats)[0],
+              "without_scene_ms": timed(lambda: without(x1), args.repeats)[0]}
+    report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
+                         f"--repeats {args.repeats}",
+              "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
+              "resolution": [args.resx, args.resy], "rows": rows, "fit": fits, "frozen_replay": replay}
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps(report, indent=2))
-    print(json.dumps(report, indent=2))
+    _chart(args.output.with_suffix(".png"), rows, fits, report)
+    print(json.dumps({k: report[k] for k in ("fit", "frozen_replay", "objects", "shapes")}, indent=2))
+
+
+def _chart(path: Path, rows: list[dict], fits: dict, report: dict) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    x = np.array([r["pixels"] for r in rows], dtype=np.float64)
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for key, label in (("wall_ms", "wall, one sync per call"), ("device_ms", "device (kernel history)")):
+        line = ax.plot(x, [r[key] for r in rows], "o", label=label)[0]
+        fit = fits[key]
+        xs = np.linspace(0, x.max(), 100)
+        ax.plot(xs, fit["fixed_ms"] + fit["ms_per_1000_pixels"] * xs / 1e3, "-", color=line.get_color(), alpha=0.6,
+                label=f"fit: {fit['fixed_ms']:.3f} ms + {fit['ms_per_1000_pixels']:.4f} ms / 1000 px")
+    ax.set_xlabel("traced pixels")
+    ax.set_ylabel("ms per trace call")
+    ax.set_title(f"trace call on {report['objects']} objects ({report['shapes']} shapes), "
+                 f"{report['machine']['variant']}", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -22,18 +22,21 @@ def pixels_of(gb, name):
 def test_analytic_spheres_are_flagged_as_proxies():
     scene = load(SHARED_SCENES / "cbox/cbox_spheres_analytic.xml", res=256, integrator="path")
     gb = hi.rasterize(scene, aovs=("position",))
-    spheres = [i for i, s in enumerate(scene.shapes()) if s.class_name() == "Sphere"]
+    objects = hi.scene_objects(scene)
+    shapes = [i for i, s in enumerate(scene.shapes()) if s.class_name() == "Sphere"]
+    spheres = [int(objects.first_object[i]) for i in shapes]  # an analytic shape is one object
     assert len(spheres) == 2
     # every pixel whose camera ray hits an exact sphere is flagged (the proxy encloses the sphere)
     sensor = scene.sensors()[0]
-    pi = scene.ray_intersect_preliminary(camera_rays(sensor, RasterCamera.from_sensor(sensor), (0.5, 0.5)))
-    exact = np.isin(np.where(np.array(pi.is_valid()), np.array(pi.shape_index, dtype=np.int64), -1), spheres).reshape(gb.depth.shape)
+    h, w = gb.depth.shape
+    pi = scene.ray_intersect_preliminary(camera_rays(sensor, w, h, (0.5, 0.5)))
+    exact = np.isin(np.where(np.array(pi.is_valid()), np.array(pi.shape_index, dtype=np.int64), -1), shapes).reshape(gb.depth.shape)
     assert exact.sum() > 1000
     assert gb.proxy[exact].all()
     assert np.isin(gb.shape_index[gb.proxy], spheres).all()
     assert not gb.proxy[gb.hit & ~np.isin(gb.shape_index, spheres)].any()
     # proxy pixels were refined by a real ray: the position AOV lies on the exact sphere surface
-    for index in spheres:
+    for index in shapes:
         to_world = np.array(mi.traverse(scene.shapes()[index])["to_world"].matrix).reshape(4, 4)
         centre, radius = to_world[:3, 3], np.linalg.norm(to_world[:3, 0])
         on = exact & (np.array(pi.shape_index).reshape(exact.shape) == index)
@@ -49,7 +52,7 @@ def test_aovs_match_mitsuba_materials():
     # position: on the camera ray at the visibility buffer's depth
     sensor = scene.sensors()[0]
     camera = RasterCamera.from_sensor(sensor)
-    ray = camera_rays(sensor, camera, (0.5, 0.5))
+    ray = camera_rays(sensor, camera.width, camera.height, (0.5, 0.5))
     d = np.stack([np.array(ray.d[k]) for k in range(3)], -1).reshape(gb.position.shape)
     expected = camera.eye + d * gb.depth[..., None]
     h, w = gb.shape_index.shape
@@ -82,7 +85,8 @@ def test_aovs_match_mitsuba_materials():
 def test_textured_albedo_comes_from_the_texture():
     scene = load(SHARED_SCENES / "sponza-dabrovic/scene.xml", resx=320, resy=180)
     gb = hi.rasterize(scene, aovs=("albedo",))
-    textured = [i for i, s in enumerate(scene.shapes()) if "data" in " ".join(mi.traverse(s.bsdf()).keys())]
+    objects = hi.scene_objects(scene)
+    textured = [k for k in range(len(objects)) if "data" in " ".join(mi.traverse(objects.bsdf(k, scene)).keys())]
     assert textured
     mask = np.isin(gb.shape_index, textured)
     # a bitmap varies across a shape's pixels; a constant reflectance would not
@@ -117,7 +121,8 @@ def test_offset_moves_the_sample_like_mitsuba():
     for offset in ((0.0, 0.0), (0.99, 0.01)):
         gb = hi.rasterize(scene, offset=offset)
         sensor = scene.sensors()[0]
-        ray = camera_rays(sensor, RasterCamera.from_sensor(sensor), offset)
+        h, w = gb.depth.shape
+        ray = camera_rays(sensor, w, h, offset)
         t = np.array(scene.ray_intersect(ray).t + dr.norm(ray.o - mi.Point3f(0, 0, 3.9))).reshape(gb.depth.shape)
         both = gb.hit & np.isfinite(t)
         assert np.median(np.abs(gb.depth[both] - t[both]) / t[both]) < 1e-5

@@ -13,12 +13,12 @@ from hybrid_integrator.heuristic import candidate_kinds, coverage, object_releva
 from conftest import DEFAULT_SCENE, load
 
 
-def buffer_coverage(shape_index: np.ndarray, depth: np.ndarray, n_shapes: int = 2):
+def buffer_coverage(object_index: np.ndarray, depth: np.ndarray, n_objects: int = 2):
     """``heuristic.coverage`` of an H×W visibility buffer given as numpy (-1: background)."""
-    h, w = shape_index.shape
-    valid = shape_index.ravel() >= 0
-    return coverage(mi.UInt32(np.maximum(shape_index.ravel(), 0).astype(np.uint32)), mi.Bool(valid),
-                    mi.Float(np.where(valid, depth.ravel(), 0.0).astype(np.float32)), w, h, n_shapes)
+    h, w = object_index.shape
+    valid = object_index.ravel() >= 0
+    return coverage(mi.UInt32(np.maximum(object_index.ravel(), 0).astype(np.uint32)), mi.Bool(valid),
+                    mi.Float(np.where(valid, depth.ravel(), 0.0).astype(np.float32)), w, h, n_objects)
 
 
 def synthetic_buffer():
@@ -67,7 +67,7 @@ def test_learnt_rays_and_effects_filter():
 
 def test_candidate_parser():
     scene = load(DEFAULT_SCENE)
-    ids = [s.id() for s in scene.shapes()]
+    ids = hi.scene_objects(scene).names
     defaults = dict(zip(ids, candidate_kinds(None, scene)))
     assert defaults["back"] == ("shadow", "indirect")
     assert defaults["mirror_sphere"] == ("shadow", "reflection")
@@ -78,7 +78,7 @@ def test_candidate_parser():
     mapping = dict(zip(ids, candidate_kinds({"floor": ["shadow"], "mirror_sphere": None}, scene)))
     assert mapping["floor"] == ("shadow",) and mapping["mirror_sphere"] == defaults["mirror_sphere"]
     assert all(k == () for k in candidate_kinds("", scene))
-    with pytest.raises(hi.HybridError, match=r"unknown candidate shape id\(s\) \['teapot'\]"):
+    with pytest.raises(hi.HybridError, match=r"unknown candidate object id\(s\) \['teapot'\]"):
         candidate_kinds("teapot:shadow", scene)
     with pytest.raises(hi.HybridError, match=r"unknown ray kind\(s\) \['glow'\] for candidate 'floor'"):
         candidate_kinds("floor:glow", scene)
@@ -100,15 +100,15 @@ def test_plan_fits_the_budget():
     cov = synthetic_buffer()
     objects = object_relevance(cov, [("shadow",), ("shadow",)], ["a", "b"], ("shadow",), set(), 0.0, {})
     model = CostModel(rates=dict.fromkeys(("shadow", "reflection", "refraction", "indirect"), 1.0), launch_ms=0.5)
-    probe = plan_frame(objects, 2, "greedy", 100.0, 1, model)  # not calibrated yet: the most relevant only
+    probe = plan_frame(objects, "greedy", 100.0, 1, model)  # not calibrated yet: the most relevant only
     assert probe.traced == {max(objects, key=lambda o: o.relevance).index}
-    model.history.extend([([0.0] * 4, 0.5, [0.0] * 4)] * 3)  # as if three batches had been measured
-    unlimited = plan_frame(objects, 2, "greedy", 0.0, 1, model)
-    assert unlimited.traced == {0, 1} and len(unlimited.batches) == 1
-    tight = plan_frame(objects, 2, "greedy", 6.0, 1, model)  # room for a (4 ms) but not both (12 ms)
+    model.history.extend([([0.0] * 4, 0.5, [0.0] * 4)] * 3)  # as if three passes had been measured
+    unlimited = plan_frame(objects, "greedy", 0.0, 1, model)
+    assert unlimited.traced == {0, 1} and unlimited.rays == {"shadow": 12.0}
+    tight = plan_frame(objects, "greedy", 6.0, 1, model)  # room for a (4 ms) but not both (12 ms)
     assert tight.traced == {0}
-    assert sum(model.predict(b.rays) for b in tight.batches) <= 6.0
-    assert plan_frame(objects, 2, "exact", 0.1, 1, model).traced == set()
+    assert model.predict(tight.rays) <= 6.0
+    assert plan_frame(objects, "exact", 0.1, 1, model).traced == set()
 
 
 def test_budget_in_a_render():
@@ -155,9 +155,8 @@ def test_objects_with_different_kinds_share_one_trace_call():
     candidates property narrowed spawns only those at its primary hit."""
     scene = load(DEFAULT_SCENE)
     frame = hi.render(scene, spp=1)
-    assert frame.stats.batches == 1
+    # floor (material kinds), back (reflection only), glass (refraction only)
     narrowed = hi.render(scene, spp=1, candidates="back:reflection, floor, glass_sphere:refraction")
-    assert narrowed.stats.batches == 1  # floor (material kinds), back (reflection only), glass (refraction only)
     # the back wall deserves only reflection, which a diffuse wall has no lobe for: never traced
     assert narrowed.stats.rays["shadow"] < frame.stats.rays["shadow"] and narrowed.stats.rays["refraction"] > 0
     gb = hi.rasterize(scene)

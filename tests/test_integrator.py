@@ -117,7 +117,7 @@ def test_rays_follow_the_candidates():
     """Per-pixel random streams make ray counts additive over disjoint candidate sets, and no pixel
     outside the candidates is traced."""
     scene = load(DEFAULT_SCENE)
-    ids = [s.id() for s in scene.shapes()]
+    ids = list(hi.scene_objects(scene).names)
     first, second = ids[: len(ids) // 2], ids[len(ids) // 2:]
     everything = hi.render(scene, spp=2, seed=3)
     part_a = hi.render(scene, spp=2, seed=3, candidates=",".join(first))
@@ -176,7 +176,7 @@ def test_bad_properties_are_clear_errors():
     for props, message in cases:
         with pytest.raises(Exception, match=message):
             mi.load_dict({"type": "hybrid", **props})
-    with pytest.raises(hi.HybridError, match=r"unknown candidate shape id\(s\) \['teapot'\]"):
+    with pytest.raises(hi.HybridError, match=r"unknown candidate object id\(s\) \['teapot'\]"):
         hi.render(load(DEFAULT_SCENE), spp=1, candidates="floor,teapot")
 
 

@@ -64,7 +64,7 @@ def test_gbuffer_layout_and_background():
     assert gb.prim_index.dtype == np.uint32 and gb.bary.shape == (h, w, 2) and gb.bary.dtype == np.float32
     assert gb.depth.dtype == np.float32 and gb.proxy.dtype == bool
     assert not gb.proxy.any()
-    ids = [scene.shapes()[i].id() for i in np.unique(gb.shape_index[gb.hit])]
+    ids = [gb.shape_ids[i] for i in np.unique(gb.shape_index[gb.hit])]
     assert {"floor", "ceiling", "back", "redwall", "greenwall", "glass_sphere", "mirror_sphere"} <= set(ids)
     # row 0 is the top of the image: the ceiling is above the floor
     def seen(row, col):
@@ -99,8 +99,9 @@ def test_geometry_is_uploaded_once_and_reused():
     assert same.sum() > 0.5 * a.hit.sum() and not np.allclose(a.bary[same], b.bary[same])
 
 
-def test_linear_depth_keeps_precision_far_away():
-    """A distant camera (1 km): a 1/z depth buffer would lose the triangles; linear depth does not.
+def test_float_depth_keeps_precision_far_away():
+    """A distant camera (1 km): a 24-bit 1/z depth buffer would lose the triangles; reversed-Z
+    float depth (context.DepthPrecision) does not.
     (Sub-pixel offset and aim are off-axis so that no rectangle diagonal runs through pixel centres,
     where either triangle is a right answer.)"""
     import mitsuba as mi
@@ -115,14 +116,12 @@ def test_linear_depth_keeps_precision_far_away():
 def test_shape_indices_from_pointers_match_mitsuba():
     """The pointer → index map (needed where OptiX leaves shape_index unset) agrees with Embree's."""
     import drjit as dr
-    from hybrid_integrator.primary import camera_rays, shape_indices
-    from hybrid_integrator.raster.camera import RasterCamera
+    from hybrid_integrator.primary import camera_rays, shape_indices, shape_table
 
     scene = load(SHARED_SCENES / "cbox/showcase_coloured_glass.xml", resx=1280, resy=720)
-    sensor = scene.sensors()[0]
-    pi = scene.ray_intersect_preliminary(camera_rays(sensor, RasterCamera.from_sensor(sensor), (0.5, 0.5)))
+    pi = scene.ray_intersect_preliminary(camera_rays(scene.sensors()[0], 1280, 720, (0.5, 0.5)))
     valid = pi.is_valid()
-    mapped = np.array(shape_indices(scene, pi.shape, valid))[np.array(valid)]
+    mapped = np.array(shape_indices(shape_table(scene), pi.shape, valid))[np.array(valid)]
     assert len(np.unique(mapped)) == len(scene.shapes())
     assert np.array_equal(mapped, np.array(pi.shape_index)[np.array(valid)])
     assert dr.width(valid) == 1280 * 720

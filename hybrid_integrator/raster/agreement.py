@@ -13,6 +13,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from ..objects import object_indices
 from ..primary import camera_rays, shape_indices
 from .camera import RasterCamera
 from .visibility import VisibilityBuffer
@@ -33,12 +34,17 @@ class Agreement:
 
 
 def visibility_agreement(scene: mi.Scene, sensor: mi.Sensor, vis: VisibilityBuffer) -> Agreement:
-    """Compare ``vis`` with ``ray_intersect_preliminary`` along Mitsuba's camera rays."""
+    """Compare ``vis`` with ``ray_intersect_preliminary`` along Mitsuba's camera rays: the same
+    object and triangle, hit or miss, and the depth."""
+    from ..api import rasterizer
+
     camera = RasterCamera.from_sensor(sensor)
-    ray = camera_rays(sensor, camera, vis.offset)
+    ray = camera_rays(sensor, camera.width, camera.height, vis.offset)
     pi = scene.ray_intersect_preliminary(ray)
-    hit = np.array(pi.is_valid()).reshape(vis.depth.shape)
-    index = shape_indices(scene, pi.shape, pi.is_valid())
+    valid = pi.is_valid()
+    hit = np.array(valid).reshape(vis.depth.shape)
+    tables = rasterizer(scene).tables
+    index = object_indices(tables.object, tables.first_triangle, shape_indices(tables.pointer_shape, pi.shape, valid), pi.prim_index, valid)
     shape = np.where(hit, np.array(index, dtype=np.int64).reshape(hit.shape), -1)
     prim = np.array(pi.prim_index, dtype=np.int64).reshape(hit.shape)
     # Mitsuba's camera rays start on the near plane; the raster's depth is measured from the eye

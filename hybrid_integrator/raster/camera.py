@@ -25,6 +25,9 @@ from ..errors import UnsupportedSceneError
 
 SUPPORTED_SENSOR = "PerspectiveCamera"
 
+#: the last camera built for each sensor (by ``id``), with the parameters it was built from
+_CAMERAS: dict[int, tuple[tuple, "RasterCamera"]] = {}
+
 
 @dataclass(frozen=True)
 class RasterCamera:
@@ -42,7 +45,8 @@ class RasterCamera:
     @classmethod
     def from_sensor(cls, sensor: mi.Sensor) -> "RasterCamera":
         """Build the camera of ``sensor``, or raise :class:`UnsupportedSceneError` for a sensor
-        type other than ``perspective`` or a film with a crop window."""
+        type other than ``perspective`` or a film with a crop window. The last camera of each
+        sensor is kept and reused while its parameters are the same (a frame reads them once)."""
         kind = sensor.class_name()
         if kind != SUPPORTED_SENSOR:
             raise UnsupportedSceneError(
@@ -59,23 +63,35 @@ class RasterCamera:
         ppx = float(params["principal_point_offset_x"][0])
         ppy = float(params["principal_point_offset_y"][0])
         near, far = sensor.near_clip(), sensor.far_clip()
-        camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
         camera_to_world = transform_matrix(params["to_world"])
+        key = (tuple(size), x_fov, ppx, ppy, near, far, camera_to_world.tobytes())
+        cached = _CAMERAS.get(id(sensor))
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
         sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
                                   [0.0, 0.0, 0.0, 1.0]])
         world_to_clip = sample_to_ndc @ camera_to_sample @ np.linalg.inv(camera_to_world)
-        return cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
-                   eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far))
+        camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
+                     eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far))
+        _CAMERAS[id(sensor)] = (key, camera)
+        return camera
 
     def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
-        """world → clip for samples at sub-pixel position ``offset`` ∈ [0,1)² in every pixel."""
+        """world → clip for samples at sub-pixel position ``offset`` ∈ [0,1)² in every pixel, with
+        *reversed* depth: clip z is the near-clip distance, so that after the division by w (the
+        camera-space depth) the depth buffer holds ``near / z`` (``context.DepthPrecision``), 1 on
+        the near plane and → 0 at infinity; nothing in front of the near plane is drawn, as
+        Mitsuba's camera rays start on it."""
         ox, oy = offset
         shift = np.eye(4)
         shift[0, 3] = (1.0 - 2.0 * ox) / self.width
         shift[1, 3] = (1.0 - 2.0 * oy) / self.height
-        return shift @ self.world_to_clip
+        clip = shift @ self.world_to_clip
+        clip[2] = (0.0, 0.0, 0.0, self.near_clip)
+        return clip
 
 
 def transform_matrix(transform) -> np.ndarray:

@@ -6,6 +6,7 @@ backend fails headless, hence ``backend='egl'``.
 """
 from __future__ import annotations
 
+import ctypes
 import functools
 import platform
 
@@ -16,8 +17,8 @@ from ..errors import RasterContextError
 #: Debian packages that provide a headless EGL + OpenGL driver on a machine without a GPU
 SYSTEM_PACKAGES = "libegl1 libgl1 libgl1-mesa-dri"
 
-#: the oldest OpenGL the raster shaders are written for (integer targets, geometry shaders)
-REQUIRED_GL = 330
+#: the oldest OpenGL the raster stage needs: 4.5 for ``glClipControl`` (reversed-Z depth, below)
+REQUIRED_GL = 450
 
 
 @functools.lru_cache(maxsize=1)
@@ -46,3 +47,63 @@ def machine() -> dict[str, str]:
     import mitsuba as mi
 
     return {"variant": mi.variant(), "gl_renderer": renderer_name(), "cpu": platform.processor() or platform.machine()}
+
+
+# OpenGL enums of the calls below (glcorearb.h)
+_GL_LOWER_LEFT, _GL_NEGATIVE_ONE_TO_ONE, _GL_ZERO_TO_ONE = 0x8CA1, 0x935E, 0x935F
+_GL_FRAMEBUFFER, _GL_RENDERBUFFER, _GL_DEPTH_ATTACHMENT = 0x8D40, 0x8D41, 0x8D00
+_GL_DEPTH_COMPONENT32F, _GL_FRAMEBUFFER_COMPLETE = 0x8CAC, 0x8CD5
+
+
+class DepthPrecision:
+    """Reversed-Z depth with a 32-bit float depth buffer, which moderngl does not expose.
+
+    A float depth buffer that stores ``near / z`` (1 at the near plane, → 0 at infinity; OpenGL's
+    ``glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)`` keeps it from being remapped to [−1, 1]) has
+    the same *relative* precision (~1e-7) at every distance, like the ray tracer's own floats: a
+    24-bit 1/z buffer loses millimetres a few metres away, and writing a linear depth from the
+    fragment shader (``gl_FragDepth``) would switch off early depth testing. The few OpenGL 4.5
+    entry points needed are called through ``eglGetProcAddress`` in the context moderngl made."""
+
+    def __init__(self):
+        egl = ctypes.CDLL("libEGL.so.1")
+        egl.eglGetProcAddress.restype = ctypes.c_void_p
+        egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+
+        def entry(name: str, *args, restype=None):
+            address = egl.eglGetProcAddress(name.encode())
+            if not address:
+                raise RasterContextError(f"the OpenGL driver has no {name} (OpenGL 4.5 is needed)")
+            return ctypes.CFUNCTYPE(restype, *args)(address)
+
+        u = ctypes.c_uint
+        self._clip_control = entry("glClipControl", u, u)
+        self._gen_renderbuffers = entry("glGenRenderbuffers", ctypes.c_int, ctypes.POINTER(u))
+        self._bind_renderbuffer = entry("glBindRenderbuffer", u, u)
+        self._renderbuffer_storage = entry("glRenderbufferStorage", u, u, ctypes.c_int, ctypes.c_int)
+        self._bind_framebuffer = entry("glBindFramebuffer", u, u)
+        self._framebuffer_renderbuffer = entry("glFramebufferRenderbuffer", u, u, u, u)
+        self._check_framebuffer = entry("glCheckFramebufferStatus", u, restype=u)
+
+    def attach_float_depth(self, framebuffer: moderngl.Framebuffer, size: tuple[int, int]) -> None:
+        """Replace ``framebuffer``'s depth attachment with a 32-bit float depth buffer."""
+        buffer = ctypes.c_uint()
+        self._gen_renderbuffers(1, ctypes.byref(buffer))
+        self._bind_renderbuffer(_GL_RENDERBUFFER, buffer.value)
+        self._renderbuffer_storage(_GL_RENDERBUFFER, _GL_DEPTH_COMPONENT32F, int(size[0]), int(size[1]))
+        self._bind_framebuffer(_GL_FRAMEBUFFER, framebuffer.glo)
+        self._framebuffer_renderbuffer(_GL_FRAMEBUFFER, _GL_DEPTH_ATTACHMENT, _GL_RENDERBUFFER, buffer.value)
+        status = self._check_framebuffer(_GL_FRAMEBUFFER)
+        if status != _GL_FRAMEBUFFER_COMPLETE:
+            raise RasterContextError(f"a framebuffer with a 32-bit float depth buffer is incomplete (0x{status:x})")
+
+    def zero_to_one(self, enabled: bool) -> None:
+        """Clip-space depth in [0, w] (reversed Z) or OpenGL's default [−w, w]."""
+        self._clip_control(_GL_LOWER_LEFT, _GL_ZERO_TO_ONE if enabled else _GL_NEGATIVE_ONE_TO_ONE)
+
+
+@functools.lru_cache(maxsize=1)
+def depth_precision() -> DepthPrecision:
+    """The reversed-Z helpers of the process's context (made with it)."""
+    gl_context()
+    return DepthPrecision()

@@ -82,7 +82,20 @@ def check_aovs(aovs) -> tuple[str, ...]:
     return names
 
 
-def aov_values(scene: mi.Scene, hits: PrimaryHits, aovs: tuple[str, ...]) -> dict[str, list[mi.Float]]:
+@dataclass(frozen=True)
+class ShapeConstants:
+    """Per ``scene.shapes()`` entry: the index of refraction and roughness of its BSDF."""
+
+    ior: mi.Float
+    roughness: mi.Float
+
+
+def shape_constants(scene: mi.Scene) -> ShapeConstants:
+    """The :class:`ShapeConstants` of ``scene`` (read once per scene)."""
+    return scene_state(scene, "shape_constants", lambda: ShapeConstants(*_per_shape_constants(scene)))
+
+
+def aov_values(scene: mi.Scene, hits: PrimaryHits, aovs: tuple[str, ...], constants: ShapeConstants) -> dict[str, list[mi.Float]]:
     """The requested targets at the primary hits, per pixel, as Dr.Jit arrays (one per channel),
     left on the device for the lighting stage."""
     ray, si, valid = hits.ray, hits.si, hits.valid
@@ -104,9 +117,9 @@ def aov_values(scene: mi.Scene, hits: PrimaryHits, aovs: tuple[str, ...]) -> dic
             out["specular"] = surface(specular)
     if "optical" in aovs:
         transmitted = _lobe_weight(bsdf, si, valid, mi.BSDFFlags.Transmission)
-        ior, roughness = scene_state(scene, "shape_constants", lambda: _per_shape_constants(scene))
-        out["optical"] = surface([mi.luminance(specular), dr.gather(mi.Float, ior, hits.shape_index, valid),
-                                  1.0 - mi.luminance(transmitted), dr.gather(mi.Float, roughness, hits.shape_index, valid)])
+        ior, roughness = constants.ior, constants.roughness
+        out["optical"] = surface([mi.luminance(specular), dr.gather(mi.Float, ior, hits.shape, valid),
+                                  1.0 - mi.luminance(transmitted), dr.gather(mi.Float, roughness, hits.shape, valid)])
     if "emission" in aovs:  # background pixels keep the environment's radiance
         emitted = si.emitter(scene).eval(si)
         out["emission"] = [dr.select(dr.isfinite(emitted[k]), emitted[k], 0.0) for k in range(3)]
@@ -123,7 +136,7 @@ def to_numpy(values: dict[str, list[mi.Float]], shape: tuple[int, int]) -> dict[
 
 def compute_aovs(scene: mi.Scene, hits: PrimaryHits, shape: tuple[int, int], aovs: tuple[str, ...]) -> dict[str, np.ndarray]:
     """Evaluate the requested targets at the primary hits (one per pixel of an image of ``shape``)."""
-    return to_numpy(aov_values(scene, hits, aovs), shape)
+    return to_numpy(aov_values(scene, hits, aovs, shape_constants(scene)), shape)
 
 
 def _lobe_weight(bsdf: mi.BSDFPtr, si: mi.SurfaceInteraction3f, valid: mi.Bool, lobes) -> mi.Color3f:

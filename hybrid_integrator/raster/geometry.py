@@ -1,8 +1,10 @@
 """Geometry of the raster stage, read from the loaded Mitsuba scene (paper §3.1, §7).
 
 There is one scene model, Mitsuba's: every mesh shape is drawn from its own world-space vertex
-and face buffers (``vertex_positions_buffer``, ``faces_buffer``), so a raster triangle index *is*
-Mitsuba's ``prim_index``. Analytic ``sphere``, ``disk`` and ``cylinder`` shapes have no triangles:
+and face buffers (``vertex_positions_buffer``, ``faces_buffer``). All shapes are concatenated into
+one vertex and one index buffer (:class:`SceneGeometry`) and drawn in a single call, so a raster
+triangle index is a *global* triangle number: shape ``k`` owns the triangles
+``first_triangle[k] … first_triangle[k + 1] − 1``, in the order of its own ``prim_index``. Analytic ``sphere``, ``disk`` and ``cylinder`` shapes have no triangles:
 they are drawn as tessellated *proxies* that enclose the exact surface (the polygon is scaled out
 by ``1/cos(π/n)`` so that no pixel of the true shape is missed), and their pixels are flagged so
 that the ray tracer refines them with a real ray. Any other shape type is refused by name.
@@ -32,11 +34,38 @@ class ShapeGeometry:
     proxy: bool  # True for a tessellated analytic shape
 
 
-def scene_geometry(scene: mi.Scene) -> list[ShapeGeometry]:
-    """One :class:`ShapeGeometry` per ``scene.shapes()`` entry, in that order (the order of
-    ``shape_index``). Raises :class:`UnsupportedSceneError` for shape types that have neither
-    triangles nor a proxy, and for non-finite vertex positions."""
-    return [shape_geometry(shape, index) for index, shape in enumerate(scene.shapes())]
+@dataclass(frozen=True)
+class SceneGeometry:
+    """Every shape's triangles in one buffer, as the single draw call sees them."""
+
+    positions: np.ndarray  # (n_vertices, 3) float32, world space
+    faces: np.ndarray  # (n_triangles, 3) uint32, indices into ``positions``
+    first_triangle: np.ndarray  # (n_shapes + 1,) int64: shape k owns triangles [first[k], first[k + 1])
+    proxy: np.ndarray  # (n_shapes,) bool: the shape is an analytic shape drawn as a proxy
+    names: tuple[str, ...]  # per shape
+
+    @property
+    def triangles_per_shape(self) -> np.ndarray:
+        return np.diff(self.first_triangle)
+
+    def shape_of_triangles(self) -> np.ndarray:
+        """(n_triangles,) uint32: the shape of every triangle."""
+        return np.repeat(np.arange(len(self.proxy), dtype=np.uint32), self.triangles_per_shape)
+
+
+def scene_geometry(scene: mi.Scene) -> SceneGeometry:
+    """The :class:`SceneGeometry` of ``scene.shapes()``, in that order. Raises
+    :class:`UnsupportedSceneError` for shape types that have neither triangles nor a proxy, and for
+    non-finite vertex positions."""
+    shapes = [shape_geometry(shape, index) for index, shape in enumerate(scene.shapes())]
+    counts = [len(s.faces) for s in shapes]
+    offsets = np.cumsum([0] + [len(s.positions) for s in shapes])
+    return SceneGeometry(
+        positions=np.concatenate([s.positions for s in shapes]).astype(np.float32) if shapes else np.zeros((0, 3), np.float32),
+        faces=(np.concatenate([s.faces.astype(np.int64) + o for s, o in zip(shapes, offsets)]).astype(np.uint32)
+               if shapes else np.zeros((0, 3), np.uint32)),
+        first_triangle=np.cumsum([0] + counts).astype(np.int64),
+        proxy=np.array([s.proxy for s in shapes], dtype=bool), names=tuple(s.name for s in shapes))
 
 
 def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:

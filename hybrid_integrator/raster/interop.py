@@ -1,11 +1,11 @@
 """CUDA–OpenGL interop: the raster targets reach Dr.Jit without crossing the host (paper §7).
 
 Sabino et al. share their G-buffer between OpenGL and OptiX rather than copying it through the
-CPU (§7). Here the visibility pass's two targets are read with ``glReadPixels`` into pixel buffer
-objects, which stay on the GPU; each buffer is registered once with CUDA
-(``cuGraphicsGLRegisterBuffer``), mapped every pass and copied device to device into a Dr.Jit
-array. On the H200 that takes 1.1 ms for a 1280×720 pass instead of 4.8–5.0 ms through the host
-(``scripts/readback_benchmark.py``, docs/results/gpu/readback_*.json).
+CPU (§7). Here the visibility pass's one target (a triangle number per pixel) is read with
+``glReadPixels`` into a pixel buffer object, which stays on the GPU; the buffer is registered once
+with CUDA (``cuGraphicsGLRegisterBuffer``), mapped every pass and copied device to device into a
+Dr.Jit array, on Dr.Jit's own CUDA stream: nothing waits on the host (mapping orders the copy
+after the OpenGL commands that filled the buffer, and the stream orders the kernels after it).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``
@@ -17,6 +17,7 @@ checked against the host path; otherwise :class:`Readback` reads through the hos
 from __future__ import annotations
 
 import ctypes
+from pathlib import Path
 
 import drjit as dr
 import mitsuba as mi
@@ -50,14 +51,29 @@ def _device_pointer(array) -> int:
     return int(tensor.data) + int(tensor.byte_offset)
 
 
+def _drjit_stream() -> ctypes.c_void_p:
+    """Dr.Jit's CUDA stream (drjit-core's ``jit_cuda_stream()``), so that the copy is ordered with
+    the kernels that read it without a host synchronization; the legacy default stream (which
+    waits for every other blocking stream) where the symbol cannot be found."""
+    try:
+        core = ctypes.CDLL(str(Path(dr.__file__).parent / "libdrjit-core.so"))
+        stream = core._Z15jit_cuda_streamv  # C++ symbol of `void *jit_cuda_stream()`
+    except (OSError, AttributeError):
+        return ctypes.c_void_p(0)
+    stream.restype = ctypes.c_void_p
+    return ctypes.c_void_p(stream())
+
+
 class _Driver:
-    """The few CUDA driver calls interop needs, in the primary context of device 0."""
+    """The few CUDA driver calls interop needs, in the primary context of device 0 (Dr.Jit's)."""
 
     def __init__(self):
         self.lib = ctypes.CDLL("libcuda.so.1")
         self.context = ctypes.c_void_p()
         self._check(self.lib.cuInit(0), "cuInit")
         self._check(self.lib.cuDevicePrimaryCtxRetain(ctypes.byref(self.context), 0), "cuDevicePrimaryCtxRetain")
+        dr.eval(mi.UInt32(0))  # Dr.Jit's CUDA backend (and its stream) exist from here on
+        self.stream = _drjit_stream()
 
     @staticmethod
     def _check(code: int, call: str) -> None:
@@ -73,39 +89,40 @@ class _Driver:
 
 
 class _SharedBuffer:
-    """A GL pixel buffer object registered with CUDA, and copies of it into Dr.Jit arrays."""
+    """A GL pixel buffer object registered with CUDA once, copied into a Dr.Jit array per frame."""
 
     def __init__(self, ctx: moderngl.Context, driver: _Driver, nbytes: int):
         self.buffer = ctx.buffer(reserve=nbytes)
         self.driver = driver
         self.resource = ctypes.c_void_p()
         driver.call("cuGraphicsGLRegisterBuffer", ctypes.byref(self.resource), ctypes.c_uint(self.buffer.glo),
-                    ctypes.c_uint(0))
+                    ctypes.c_uint(1))  # CU_GRAPHICS_REGISTER_FLAGS_READ_ONLY
 
     def copy(self, array_type, count: int):
+        """Map, copy device to device on Dr.Jit's stream, unmap: all asynchronous. Mapping orders
+        the copy after the OpenGL commands that wrote the buffer."""
         out = dr.empty(array_type, count)
         dr.eval(out)
-        dr.sync_thread()  # the allocation is complete before another stream writes into it
         pointer, size = ctypes.c_uint64(), ctypes.c_size_t()
-        self.driver.call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), ctypes.c_void_p(0))
+        stream = self.driver.stream
+        self.driver.call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
         try:
             self.driver.call("cuGraphicsResourceGetMappedPointer_v2", ctypes.byref(pointer), ctypes.byref(size),
                              self.resource)
-            self.driver.call("cuMemcpyDtoD_v2", ctypes.c_uint64(_device_pointer(out)), pointer, size)
+            self.driver.call("cuMemcpyDtoDAsync_v2", ctypes.c_uint64(_device_pointer(out)), pointer, size, stream)
         finally:
-            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), ctypes.c_void_p(0))
-        self.driver.call("cuCtxSynchronize")
+            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), stream)
         return out
 
 
 class Readback:
-    """The visibility pass's targets as Dr.Jit arrays: through interop where it works (module
+    """The visibility pass's target as a Dr.Jit array: through interop where it works (module
     docstring), else through the host. ``mode`` says which, with the reason for the host."""
 
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self.mode = "host"
-        self._buffers: dict[tuple[int, int], tuple[_SharedBuffer, _SharedBuffer]] = {}
+        self._buffers: dict[tuple[int, int], _SharedBuffer] = {}
         self._driver = None
         self._verified = False
         if not mi.variant().startswith("cuda"):
@@ -117,30 +134,25 @@ class Readback:
         except (OSError, RuntimeError) as exc:
             self.mode = f"host (no CUDA driver for interop: {exc})"
 
-    def targets(self, fbo: moderngl.Framebuffer, host_read) -> tuple[mi.UInt32, mi.Float]:
-        """(4 words per pixel, distance per pixel) of ``fbo``; ``host_read(fbo)`` is the host path
-        (``Rasterizer.read_targets``)."""
+    def ids(self, fbo: moderngl.Framebuffer, host_read) -> mi.UInt32:
+        """The triangle-number target of ``fbo``; ``host_read(fbo)`` is the host path
+        (``Rasterizer.read_ids``)."""
         if self._driver is not None:
             try:
                 shared = self._interop(fbo)
                 if not self._verified:  # the first copy must equal the host's, or interop is off
-                    words, distance = host_read(fbo)
-                    if not (np.array_equal(np.array(shared[0]), words) and np.array_equal(np.array(shared[1]), distance)):
+                    if not np.array_equal(np.array(shared), host_read(fbo)):
                         raise RuntimeError("the interop copy differs from the host read-back")
                     self._verified = True
                 return shared
             except Exception as exc:  # noqa: BLE001 - any failure of interop falls back, and says why
                 self._driver, self.mode = None, f"host (interop failed: {type(exc).__name__}: {exc})"
-        words, distance = host_read(fbo)
-        return mi.UInt32(words), mi.Float(distance)
+        return mi.UInt32(host_read(fbo))
 
-    def _interop(self, fbo: moderngl.Framebuffer) -> tuple[mi.UInt32, mi.Float]:
+    def _interop(self, fbo: moderngl.Framebuffer) -> mi.UInt32:
         w, h = fbo.size
         if (w, h) not in self._buffers:
-            self._buffers[(w, h)] = (_SharedBuffer(self.ctx, self._driver, 16 * w * h),
-                                     _SharedBuffer(self.ctx, self._driver, 4 * w * h))
-        words, distance = self._buffers[(w, h)]
-        fbo.read_into(words.buffer, components=4, attachment=0, dtype="u4")
-        fbo.read_into(distance.buffer, components=1, attachment=1, dtype="f4")
-        self.ctx.finish()
-        return words.copy(mi.UInt32, 4 * w * h), distance.copy(mi.Float, w * h)
+            self._buffers[(w, h)] = _SharedBuffer(self.ctx, self._driver, 4 * w * h)
+        shared = self._buffers[(w, h)]
+        fbo.read_into(shared.buffer, components=1, attachment=0, dtype="u4")
+        return shared.copy(mi.UInt32, w * h)

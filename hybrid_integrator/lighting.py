@@ -27,7 +27,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from .camera import transform_matrix
+from .raster.camera import transform_matrix
 
 AREA_SAMPLES = 16
 AMBIENT_DIRECTIONS = 256
@@ -119,6 +119,15 @@ def _average_radiance(emitter: mi.Emitter) -> np.ndarray:
 INPUTS = {"position": 3, "normal": 3, "albedo": 3, "specular": 3, "optical": 4, "emission": 3}
 
 
+@dataclass(frozen=True)
+class LightTable:
+    """The light table on the device, as the lighting kernel reads it (:class:`DeferredLighting`)."""
+
+    rows: list  # three mi.Float, 4 floats per light each
+    ambient: mi.Color3f
+    count: int
+
+
 class DeferredLighting:
     """The lighting pass of one scene: its lights are read once into a table on the device.
 
@@ -129,22 +138,23 @@ class DeferredLighting:
 
     def __init__(self, scene: mi.Scene):
         self.lights = scene_lights(scene)
-        self._rows = [mi.Float(self.lights.table[r].ravel()) for r in range(3)]
-        self._ambient = mi.Color3f(*(float(c) for c in self.lights.ambient))
+        self.table = LightTable(rows=[mi.Float(self.lights.table[r].ravel()) for r in range(3)],
+                                ambient=mi.Color3f(*(float(c) for c in self.lights.ambient)), count=self.lights.count)
 
-    def shade(self, gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, eye) -> mi.Color3f:
-        """The raster layer from G-buffer targets (``INPUTS``, per pixel) and the hit mask."""
-        p = mi.Point3f(*gbuffer["position"])
-        n = dr.normalize(mi.Vector3f(*gbuffer["normal"]))
-        albedo, specular, emission = (mi.Color3f(*gbuffer[k]) for k in ("albedo", "specular", "emission"))
-        roughness = dr.maximum(gbuffer["optical"][3], 0.05)
-        shininess = 2.0 / (roughness * roughness) - 2.0  # Blinn-Phong exponent of a GGX alpha
-        v = dr.normalize(mi.Point3f(*(float(c) for c in eye)) - p)
-        n = dr.select(dr.dot(n, v) < 0.0, -n, n)  # two-sided shading, as Mitsuba's BSDFs see the front side
-        color = emission + self._ambient * (albedo + specular)
-        if self.lights.count:
-            color = _direct(self._rows, self.lights.count, p, n, v, albedo, specular, shininess, color)
-        return dr.select(hit, color, emission)
+
+def shade(gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, eye: mi.Point3f, lights: LightTable) -> mi.Color3f:
+    """The raster layer from G-buffer targets (``INPUTS``, per pixel), the hit mask and the eye."""
+    p = mi.Point3f(*gbuffer["position"])
+    n = dr.normalize(mi.Vector3f(*gbuffer["normal"]))
+    albedo, specular, emission = (mi.Color3f(*gbuffer[k]) for k in ("albedo", "specular", "emission"))
+    roughness = dr.maximum(gbuffer["optical"][3], 0.05)
+    shininess = 2.0 / (roughness * roughness) - 2.0  # Blinn-Phong exponent of a GGX alpha
+    v = dr.normalize(eye - p)
+    n = dr.select(dr.dot(n, v) < 0.0, -n, n)  # two-sided shading, as Mitsuba's BSDFs see the front side
+    color = emission + lights.ambient * (albedo + specular)
+    if lights.count:
+        color = _direct(lights.rows, lights.count, p, n, v, albedo, specular, shininess, color)
+    return dr.select(hit, color, emission)
 
 
 @dr.syntax
