@@ -138,7 +138,9 @@ class DeferredLighting:
 
     def __init__(self, scene: mi.Scene):
         self.lights = scene_lights(scene)
-        self.table = LightTable(rows=[mi.Float(self.lights.table[r].ravel()) for r in range(3)],
+        # at least one (unused) light: an empty Dr.Jit array cannot be an input of a frozen function
+        rows = self.lights.table if self.lights.count else np.zeros((3, 1, 4), dtype=np.float32)
+        self.table = LightTable(rows=[mi.Float(rows[r].ravel()) for r in range(3)],
                                 ambient=mi.Color3f(*(float(c) for c in self.lights.ambient)), count=self.lights.count)
 
 

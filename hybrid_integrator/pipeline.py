@@ -221,9 +221,8 @@ class PassData:
     """The device pass's inputs that change from pass to pass, and the scene's tables."""
 
     triangle_id: mi.UInt32  # the visibility buffer (raster primaries; unused for camera rays)
-    offset: mi.Point2f  # sub-pixel position
-    seed: mi.UInt64
-    eye: mi.Point3f
+    camera: mi.Float  # sub-pixel position (x, y), then the eye (x, y, z): one upload per pass
+    seed: mi.UInt32  # the pass's random seed (low, high word)
     config: mi.Int32  # per object: index of its effect set in ``configs``, −1 = not traced this pass
     tables: TriangleTables
     lights: LightTable
@@ -232,13 +231,14 @@ class PassData:
 
 @dataclass
 class PassOutput:
-    """What one device pass leaves on the device: splats, and its counts packed into two arrays
-    so that reading them back after the frame costs two copies (:class:`PassCounts`)."""
+    """What one device pass leaves on the device: splats, and its counts packed into one array so
+    that reading them back after the frame costs one copy (:class:`PassCounts`)."""
 
     image: mi.TensorXf  # the image block (film filter, weight channel last)
     layers: object  # the layer block (raster, rt, traced, weight) or None
-    coverage: mi.Float  # heuristic.coverage_sums (4 × objects)
-    counts: mi.UInt32  # rays per object of each kind (RAY_KINDS order), traced pixels, proxy and edge refinements
+    #: rays per object of each kind (RAY_KINDS order), traced pixels, proxy and edge refinements,
+    #: then the coverage sums (heuristic.coverage_sums, 4 × objects) as float bits
+    counts: mi.UInt32
     aovs: dict
 
 
@@ -255,16 +255,20 @@ class PassCounts:
     @classmethod
     def read(cls, output: PassOutput, n_objects: int) -> "PassCounts":
         width = max(n_objects, 1)
-        coverage, counts = np.array(output.coverage), np.array(output.counts, dtype=np.int64)
-        rays = counts[:len(RAY_KINDS) * width].reshape(len(RAY_KINDS), width)[:, :n_objects].T
-        pixels, proxy, edge = (int(v) for v in counts[len(RAY_KINDS) * width:])
-        return cls(coverage, rays, pixels, proxy, edge)
+        words = np.array(output.counts)
+        end = len(RAY_KINDS) * width
+        rays = words[:end].astype(np.int64).reshape(len(RAY_KINDS), width)[:, :n_objects].T
+        pixels, proxy, edge = (int(v) for v in words[end:end + 3])
+        return cls(words[end + 3:].view(np.float32), rays, pixels, proxy, edge)
 
 
 def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic, clock: StageClock) -> PassOutput:
     """Stages 1 (on the device) to 5 of one sample pass, as Dr.Jit kernels (module docstring)."""
     w, h = static.width, static.height
-    ray = camera_rays(sensor, w, h, data.offset)
+    offset = mi.Point2f(*(dr.gather(mi.Float, data.camera, k) for k in range(2)))
+    eye = mi.Point3f(*(dr.gather(mi.Float, data.camera, k) for k in range(2, 5)))
+    seed = mi.UInt64(dr.gather(mi.UInt32, data.seed, 0)) | (mi.UInt64(dr.gather(mi.UInt32, data.seed, 1)) << 32)
+    ray = camera_rays(sensor, w, h, offset)
     # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8)
     if static.primary == "raster":
         hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables)
@@ -275,17 +279,17 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     targets = aov_values(scene, hits, static.targets, data.constants)
     if static.hide_emitters:
         targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
-    raster = shade(targets, hits.valid, data.eye, data.lights)
+    raster = shade(targets, hits.valid, eye, data.lights)
     aovs = {k: targets[k] for k in static.aovs}
     clock.mark("lighting", raster, aovs)
     # 3. selection (§4): the selected objects' pixels whose material needs an effect; coverage (eq. 1)
     selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
                               static.has_emitters)
-    sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - data.eye), w, h, static.n_objects)
+    sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects)
     clock.mark("select", selection.traced, selection.config, sums)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
     rt, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
-                               static.rr_depth, static.hide_emitters, seed=data.seed, obj=hits.object,
+                               static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                n_objects=static.n_objects, first_effects=static.configs,
                                first_config=selection.config)
     clock.mark("trace", rt, counts.per_object, counts.pixels)
@@ -293,7 +297,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     color = compose(raster, rt, selection.traced, static.blend)
     index = dr.arange(mi.UInt32, w * h)
     pixel = mi.Point2f(mi.Float(index % w), mi.Float(index // w))
-    pos = pixel if static.box_filter else pixel + data.offset
+    pos = pixel if static.box_filter else pixel + offset
     film = sensor.film()
     block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 5 if static.has_alpha else 4, film.rfilter())
     alpha = dr.select(hits.valid | static.background_alpha, 1.0, 0.0)
@@ -304,9 +308,9 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(selection.traced, 1.0, 0.0),
                               mi.Float(1.0)])
         layers = layer_block.tensor()
-    packed = dr.concat([counts.per_object, counts.pixels, hits.refined])
+    packed = dr.concat([counts.per_object, counts.pixels, hits.refined, dr.reinterpret_array(mi.UInt32, sums)])
     clock.mark("compose", block.tensor(), layers, packed)
-    return PassOutput(image=block.tensor(), layers=layers, coverage=sums, counts=packed, aovs=aovs)
+    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs)
 
 
 @dataclass
@@ -318,12 +322,13 @@ class _Frame:
     static: PassStatic
     kinds: list[tuple[str, ...]]  # per object
     candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
+    candidates: mi.Int32  # the same on the device (every candidate traced)
     stats: FrameStats
 
 
 def develop(sensor: mi.Sensor, block: mi.TensorXf) -> mi.TensorXf:
-    """The passes' splats into the sensor's film, developed as ``mi.render`` returns it (frozen
-    too: these are a few small kernels, but tracing them anew would cost the host every frame)."""
+    """The passes' splats into the sensor's film, developed as ``mi.render`` returns it (a few
+    small kernels that Mitsuba's C++ film traces quickly: not worth a frozen function)."""
     film = sensor.film()
     film.prepare([])
     film.put_block(mi.ImageBlock(block, film.crop_offset(), film.rfilter()))
@@ -341,7 +346,7 @@ class HybridRenderer:
         self.lighting = DeferredLighting(scene)
         self.constants = shape_constants(scene)
         self.clock = StageClock()
-        self._frozen_pass, self._frozen_develop = dr.freeze(device_pass), dr.freeze(develop)
+        self._frozen = dr.freeze(device_pass)
         self._gl_queries: list = []
         self._setups: dict = {}
 
@@ -358,7 +363,7 @@ class HybridRenderer:
             outputs = [self._pass(settings, frame, config, seed, sample, offset)  # 1, 2, 4, 5 per pass
                        for sample, offset in enumerate(subpixel_offsets(frame.stats.spp, seed))]
             block = sum_tensors([o.image for o in outputs])
-            image = self._frozen_develop(frame.sensor, block) if settings.freeze else develop(frame.sensor, block)
+            image = develop(frame.sensor, block)
             frame.stats.times_ms["issue"] = (time.perf_counter() - start) * 1e3
             dr.eval(image)
             dr.sync_thread()  # the frame's one synchronization
@@ -374,15 +379,15 @@ class HybridRenderer:
         key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
         if key not in self._setups:
             self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
-        static, kinds, candidate_config = self._setups[key]
+        static, kinds, candidate_config, candidates = self._setups[key]
         stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
         return _Frame(sensor=sensor, camera=camera, static=static, kinds=kinds, stats=stats,
-                      candidate_config=candidate_config)
+                      candidate_config=candidate_config, candidates=candidates)
 
     def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
-               layers: bool) -> tuple[PassStatic, list, np.ndarray]:
+               layers: bool) -> tuple[PassStatic, list, np.ndarray, mi.Int32]:
         kinds = candidate_kinds(settings.candidates, self.scene)
         # the distinct effect sets the candidates deserve, and each object's (-1: not a candidate):
         # fixed for the frame, so that one traced kernel serves every selection
@@ -398,7 +403,8 @@ class HybridRenderer:
             has_emitters=len(self.scene.emitters()) > 0,
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects))
-        return static, kinds, np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
+        config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
+        return static, kinds, config, mi.Int32(config)
 
     def _select(self, settings: HybridSettings, frame: _Frame, state: FrameState, seed: int) -> tuple[FramePlan | None, mi.Int32]:
         """Stage 3 on the host (§4): every visible candidate without a budget; with one, the plan
@@ -406,7 +412,7 @@ class HybridRenderer:
         traced, if this frame is the first of its size). Returns the plan and each object's
         effect set for the device pass."""
         if settings.budget_ms <= 0:
-            return None, mi.Int32(frame.candidate_config)
+            return None, frame.candidates
         cov = state.coverage
         if not isinstance(cov, Coverage) or (cov.width, cov.height) != (frame.camera.width, frame.camera.height):
             probe = self._pass(settings, frame, mi.Int32(np.full(len(self.objects), -1, np.int32)), seed, 0, (0.5, 0.5))
@@ -433,11 +439,10 @@ class HybridRenderer:
                 triangle_id = self.raster.device_ids(self.raster.render(camera, offset))
         else:
             triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
-        data = PassData(triangle_id=triangle_id, offset=mi.Point2f(*(dr.opaque(mi.Float, o) for o in offset)),
-                        seed=dr.opaque(mi.UInt64, (int(seed) << 32) + sample),
-                        eye=mi.Point3f(*(dr.opaque(mi.Float, float(c)) for c in camera.eye)), config=config,
+        data = PassData(triangle_id=triangle_id, camera=mi.Float(np.r_[offset, camera.eye].astype(np.float32)),
+                        seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants)
-        run = self._frozen_pass if settings.freeze else device_pass
+        run = self._frozen if settings.freeze else device_pass
         return run(self.scene, frame.sensor, data, frame.static, self.clock)
 
     def _account(self, settings: HybridSettings, frame: _Frame, plan: FramePlan | None, state: FrameState,

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import drjit as dr
 import mitsuba as mi
 import numpy as np
 
@@ -26,7 +27,7 @@ from ..errors import UnsupportedSceneError
 SUPPORTED_SENSOR = "PerspectiveCamera"
 
 #: the last camera built for each sensor (by ``id``), with the parameters it was built from
-_CAMERAS: dict[int, tuple[tuple, "RasterCamera"]] = {}
+_CAMERAS: dict[int, tuple[tuple, list, "RasterCamera"]] = {}
 
 
 @dataclass(frozen=True)
@@ -59,15 +60,17 @@ class RasterCamera:
                 f"film crop window (offset {tuple(crop_offset)}, size {tuple(crop_size)} of "
                 f"{tuple(size)}) is not supported: render the full film")
         params = mi.traverse(sensor)
-        x_fov = float(params["x_fov"][0])
-        ppx = float(params["principal_point_offset_x"][0])
-        ppy = float(params["principal_point_offset_y"][0])
+        values = [params[k] for k in ("x_fov", "principal_point_offset_x", "principal_point_offset_y", "to_world")]
         near, far = sensor.near_clip(), sensor.far_clip()
-        camera_to_world = transform_matrix(params["to_world"])
-        key = (tuple(size), x_fov, ppx, ppy, near, far, camera_to_world.tobytes())
+        # the parameters' Dr.Jit variables: a change makes new ones, and holding the old ones (in
+        # the cache) keeps their indices from being reused, so equal indices mean equal values,
+        # without reading them back from the device
+        key = (tuple(size), near, far, tuple(dr.detail.collect_indices(values)))
         cached = _CAMERAS.get(id(sensor))
         if cached is not None and cached[0] == key:
-            return cached[1]
+            return cached[2]
+        x_fov, ppx, ppy = (float(v[0]) for v in values[:3])
+        camera_to_world = transform_matrix(values[3])
         camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
         sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
@@ -76,7 +79,7 @@ class RasterCamera:
         world_to_clip = sample_to_ndc @ camera_to_sample @ np.linalg.inv(camera_to_world)
         camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
                      eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far))
-        _CAMERAS[id(sensor)] = (key, camera)
+        _CAMERAS[id(sensor)] = (key, values, camera)
         return camera
 
     def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:

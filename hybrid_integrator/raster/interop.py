@@ -16,6 +16,7 @@ checked against the host path; otherwise :class:`Readback` reads through the hos
 """
 from __future__ import annotations
 
+import contextlib
 import ctypes
 from pathlib import Path
 
@@ -81,9 +82,18 @@ class _Driver:
             raise RuntimeError(f"{call} returned CUDA error {code}")
 
     def call(self, name: str, *args) -> None:
+        with self.current():
+            self.call_current(name, *args)
+
+    def call_current(self, name: str, *args) -> None:
+        """A driver call where :meth:`current` has made the context current."""
+        self._check(getattr(self.lib, name)(*args), name)
+
+    @contextlib.contextmanager
+    def current(self):
         self._check(self.lib.cuCtxPushCurrent_v2(self.context), "cuCtxPushCurrent")
         try:
-            self._check(getattr(self.lib, name)(*args), name)
+            yield
         finally:
             self.lib.cuCtxPopCurrent_v2(ctypes.byref(ctypes.c_void_p()))
 
@@ -104,14 +114,15 @@ class _SharedBuffer:
         out = dr.empty(array_type, count)
         dr.eval(out)
         pointer, size = ctypes.c_uint64(), ctypes.c_size_t()
-        stream = self.driver.stream
-        self.driver.call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
-        try:
-            self.driver.call("cuGraphicsResourceGetMappedPointer_v2", ctypes.byref(pointer), ctypes.byref(size),
-                             self.resource)
-            self.driver.call("cuMemcpyDtoDAsync_v2", ctypes.c_uint64(_device_pointer(out)), pointer, size, stream)
-        finally:
-            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), stream)
+        stream, call = self.driver.stream, self.driver.call_current
+        target = ctypes.c_uint64(_device_pointer(out))
+        with self.driver.current():
+            call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
+            try:
+                call("cuGraphicsResourceGetMappedPointer_v2", ctypes.byref(pointer), ctypes.byref(size), self.resource)
+                call("cuMemcpyDtoDAsync_v2", target, pointer, size, stream)
+            finally:
+                call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), stream)
         return out
 
 
