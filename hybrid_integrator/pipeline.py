@@ -51,6 +51,7 @@ from .trace import RAY_KINDS, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
 STAGES = ("raster", "lighting", "select", "trace", "compose")
+HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "readback", "timing")
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,8 @@ class FrameStats:
     """What one frame cost and did. Times are milliseconds, summed over the frame's sample passes:
     per stage the device time (module docstring; ``raster`` includes ``gl``, the OpenGL draw and
     its read into the shared buffer), ``issue`` the host's time to issue the frame, ``total`` its
-    wall-clock time up to the one synchronization at its end."""
+    wall-clock time until its image and statistics are on hand (after its one synchronization),
+    less ``host_ms["timing"]``, the profiling that produces the stage times."""
 
     width: int
     height: int
@@ -108,6 +110,11 @@ class FrameStats:
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
     predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
+    #: host time (ms) by phase: frame set-up, selection, the raster pass and its interop copy, the
+    #: device pass (a frozen replay: Dr.Jit walks the scene's registered objects, then launches),
+    #: film development, the statistics read back after the synchronization, and ``timing``:
+    #: reading Dr.Jit's kernel history for the stage times (profiling, not counted in ``total``)
+    host_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(HOST_PHASES, 0.0))
     candidates_visible: int = 0
     selected: tuple[str, ...] = ()  # objects traced this frame, most relevant first
     relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
@@ -357,18 +364,22 @@ class HybridRenderer:
         state = state if state is not None else FrameState()
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
             dr.kernel_history_clear()
-            start = time.perf_counter()
+            clock = _HostClock()
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
+            clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
-            outputs = [self._pass(settings, frame, config, seed, sample, offset)  # 1, 2, 4, 5 per pass
+            clock.lap("select")
+            outputs = [self._pass(settings, frame, config, seed, sample, offset, clock)  # 1, 2, 4, 5 per pass
                        for sample, offset in enumerate(subpixel_offsets(frame.stats.spp, seed))]
-            block = sum_tensors([o.image for o in outputs])
-            image = develop(frame.sensor, block)
-            frame.stats.times_ms["issue"] = (time.perf_counter() - start) * 1e3
+            image = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
+            clock.lap("develop")
+            frame.stats.times_ms["issue"] = clock.elapsed()
             dr.eval(image)
             dr.sync_thread()  # the frame's one synchronization
-            self._account(settings, frame, plan, state, [PassCounts.read(o, len(self.objects)) for o in outputs])
-            frame.stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
+            clock.lap("sync")
+            self._account(settings, frame, plan, state, [PassCounts.read(o, len(self.objects)) for o in outputs], clock)
+            frame.stats.times_ms["total"] = clock.elapsed() - clock.phases["timing"]
+            frame.stats.host_ms = {k: clock.phases.get(k, 0.0) for k in HOST_PHASES}
         layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
         return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images)
@@ -429,8 +440,10 @@ class HybridRenderer:
                                    settings.importance, state.rays_per_pixel)
         return plan_frame(objects, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
 
-    def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset) -> PassOutput:
+    def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
+              clock: "_HostClock | None" = None) -> PassOutput:
         """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
+        clock = clock or _HostClock()
         camera = frame.camera
         if settings.primary == "raster":
             if len(self._gl_queries) <= sample:
@@ -439,17 +452,22 @@ class HybridRenderer:
                 triangle_id = self.raster.device_ids(self.raster.render(camera, offset))
         else:
             triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
+        clock.lap("raster")
         data = PassData(triangle_id=triangle_id, camera=mi.Float(np.r_[offset, camera.eye].astype(np.float32)),
                         seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants)
         run = self._frozen if settings.freeze else device_pass
-        return run(self.scene, frame.sensor, data, frame.static, self.clock)
+        output = run(self.scene, frame.sensor, data, frame.static, self.clock)
+        clock.lap("replay")
+        return output
 
     def _account(self, settings: HybridSettings, frame: _Frame, plan: FramePlan | None, state: FrameState,
-                 passes: list[PassCounts]) -> None:
+                 passes: list[PassCounts], clock: "_HostClock") -> None:
         """After the frame's synchronization: its statistics, and what the next frame learns."""
         stats, n = frame.stats, len(self.objects)
+        clock.lap("readback")
         stats.times_ms.update(self.clock.frame_times())
+        clock.lap("timing")
         if settings.primary == "raster":
             stats.times_ms["gl"] = sum(q.elapsed for q in self._gl_queries[:len(passes)]) * 1e-6
             stats.times_ms["raster"] += stats.times_ms["gl"]
@@ -487,6 +505,23 @@ class HybridRenderer:
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)
         state.coverage = cov
+        clock.lap("readback")
+
+
+class _HostClock:
+    """Host time by phase (``FrameStats.host_ms``), with ``time.perf_counter``."""
+
+    def __init__(self):
+        self.start = self.last = time.perf_counter()
+        self.phases: dict[str, float] = {}
+
+    def lap(self, phase: str) -> None:
+        now = time.perf_counter()
+        self.phases[phase] = self.phases.get(phase, 0.0) + (now - self.last) * 1e3
+        self.last = now
+
+    def elapsed(self) -> float:
+        return (self.last - self.start) * 1e3
 
 
 def sum_tensors(tensors: list):

@@ -160,15 +160,17 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
             p.rays[0] += dr.select(test, 1, 0)
         wo = si.to_local(ds.d)
         value = dr.zeros(mi.Color3f, dr.width(nee))
+        # only lanes whose BSDF has a smooth lobe of a kind call its evaluation (delta lobes add nothing)
+        smooth = bsdf.flags() & int(mi.BSDFFlags.Smooth)
         for mask, lobe in zip(masks, lobes):
             active = within(mask, nee)
             ctx_rest = mi.BSDFContext()
             ctx_rest.type_mask = int(mi.BSDFFlags.All) & ~lobe.follow
-            v = bsdf.eval(ctx_rest, si, wo, active)
+            v = bsdf.eval(ctx_rest, si, wo, active & ((smooth & ctx_rest.type_mask) != 0))
             if lobe.follow:
                 ctx_follow = mi.BSDFContext()
                 ctx_follow.type_mask = lobe.follow
-                value_follow, pdf_follow = bsdf.eval_pdf(ctx_follow, si, wo, active)
+                value_follow, pdf_follow = bsdf.eval_pdf(ctx_follow, si, wo, active & ((smooth & lobe.follow) != 0))
                 v += value_follow * dr.select(ds.delta, 1.0, _mis(ds.pdf, pdf_follow))
             value = v if mask is None else dr.select(mask, v, value)
         p.L += dr.select(nee, p.beta * em_weight * value, 0.0)

@@ -1,0 +1,100 @@
+"""Objects inside a scene batched by material (objects.py), the device-side compaction, and the
+frozen device pass where the scene has no table lights (issue 10)."""
+from __future__ import annotations
+
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+import pytest
+
+import hybrid_integrator as hi
+from hybrid_integrator.objects import MERGE_PREFIX
+from hybrid_integrator.selection import compact
+from conftest import DEFAULT_SCENE, ROOT, load
+
+MANY = ROOT / "scenes" / "many_objects.xml"
+
+
+def test_batching_keeps_every_object_and_the_image():
+    """226 objects, 10 materials: 18 Mitsuba shapes; every file id is still an object, and Mitsuba's
+    path renders the batched scene as the unbatched one."""
+    batched = load(MANY, resx=64, resy=36)
+    apart = hi.load_scene(MANY, batch=False, resx=64, resy=36)
+    objects = hi.scene_objects(batched)
+    assert len(batched.shapes()) == 18 and len(objects) == len(apart.shapes()) == 226
+    assert sorted(objects.names) == sorted(s.id() for s in apart.shapes())
+    assert any(s.id().startswith(MERGE_PREFIX) for s in batched.shapes())
+    assert objects.faces.sum() == sum(s.face_count() for s in apart.shapes())
+    integrator = mi.load_dict({"type": "path", "max_depth": 4})
+    a = np.array(mi.render(apart, integrator=integrator, spp=8, seed=1))
+    b = np.array(mi.render(batched, integrator=integrator, spp=8, seed=1))
+    assert np.allclose(a, b, atol=1e-5)
+
+
+def test_every_pixel_names_the_object_the_ray_tracer_hits():
+    """The raster's object per pixel (through the triangle → object table of the merged meshes)
+    is the object the unbatched scene's ray tracer hits."""
+    batched = load(MANY, resx=160, resy=90)
+    apart = hi.load_scene(MANY, batch=False, resx=160, resy=90)
+    gb = hi.rasterize(batched)
+    sensor = apart.sensors()[0]
+    from hybrid_integrator.primary import camera_rays
+
+    pi = apart.ray_intersect_preliminary(camera_rays(sensor, 160, 90, (0.5, 0.5)))
+    valid = np.array(pi.is_valid()).reshape(90, 160)
+    ids = [s.id() for s in apart.shapes()]
+    truth = np.where(valid, np.array(pi.shape_index, dtype=np.int64).reshape(90, 160), -1)
+    seen = np.array([gb.shape_ids[i] if i >= 0 else "" for i in gb.shape_index.ravel()]).reshape(90, 160)
+    expected = np.array([ids[i] if i >= 0 else "" for i in truth.ravel()]).reshape(90, 160)
+    assert np.mean(seen == expected) >= 0.995
+    assert len(set(seen[gb.hit].ravel())) > 20
+
+
+def test_an_object_inside_a_merged_mesh_can_be_the_only_candidate():
+    scene = load(MANY, resx=160, resy=90)
+    gb = hi.rasterize(scene)
+    objects = hi.scene_objects(scene)
+    visible = [objects.names[i] for i in np.unique(gb.shape_index[gb.hit])]
+    name = next(n for n in visible if n.startswith("box") and np.sum(gb.shape_index == objects.index(n)) > 30)
+    frame = hi.render(scene, spp=1, candidates=name, effects="shadow")
+    assert frame.stats.selected == (name,)
+    traced = frame.layers["traced"] > 0.5
+    mine = gb.shape_index == objects.index(name)
+    assert traced.sum() > 0 and np.mean(mine[traced]) > 0.9  # the traced layer is filtered: its edges blur
+
+
+@pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])
+def test_compaction_on_the_device(n, density):
+    rng = np.random.default_rng(n)
+    mask = rng.random(n) < density
+    index, active, count = compact(mi.Bool(mask))
+    expected = np.nonzero(mask)[0]
+    assert int(dr.ravel(count)[0]) == len(expected)
+    assert np.array_equal(np.array(active), np.arange(n) < len(expected))
+    assert np.array_equal(np.array(index)[:len(expected)], expected)
+
+
+def test_frozen_pass_without_table_lights_equals_the_unfrozen_one():
+    """Only an environment: the light table is empty, which a frozen function cannot take as an
+    input (the renderer passes one unused light)."""
+    scene = mi.load_dict({
+        "type": "scene", "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.8, 0.9, 1.0]}},
+        "floor": {"type": "rectangle", "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90).scale(2.0),
+                  "bsdf": {"type": "diffuse"}},
+        "block": {"type": "cube", "to_world": mi.ScalarTransform4f().translate([0, 0.5, 0]).scale(0.4),
+                  "bsdf": {"type": "conductor"}},
+        "sensor": {"type": "perspective", "fov": 50, "to_world": mi.ScalarTransform4f().look_at([0, 2, 4], [0, 0, 0], [0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 48, "height": 32}}})
+    frozen = [hi.render(scene, spp=1, seed=s) for s in range(3)]
+    plain = hi.render(scene, spp=1, seed=2, freeze=False)
+    assert np.allclose(np.array(frozen[-1].image), np.array(plain.image), rtol=1e-5, atol=1e-6)
+    assert frozen[-1].stats.rays == plain.stats.rays and plain.stats.secondary_rays > 0
+
+
+def test_frame_statistics_come_from_one_synchronization():
+    frame = hi.render(load(DEFAULT_SCENE), spp=2)
+    t = frame.stats.times_ms
+    assert all(t[k] >= 0 for k in t) and t["trace"] > 0 and t["lighting"] > 0
+    assert t["total"] >= t["issue"] > 0
+    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "readback", "timing"}
+    assert frame.stats.host_ms["replay"] > 0
