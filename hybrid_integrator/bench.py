@@ -81,8 +81,9 @@ class Measurement:
     secondary_rays: float | None = None  # median per frame
 
 
-def _scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
-    """A scene file, or ``procedural:TRIANGLES``; returns the scene and its short name."""
+def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
+    """A scene file, or ``procedural:TRIANGLES``; returns the scene and its short name. Of the
+    ``params``, each file gets those it takes."""
     if spec.startswith("procedural:"):
         triangles = int(float(spec.split(":", 1)[1]))
         keys = {k: int(v) for k, v in params.items() if k in ("resx", "resy", "spp", "max_depth")}
@@ -104,7 +105,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     params = dict(params or {})
     if frames < 1 or spp < 1 or gt_spp < 1 or max_path_spp < 1:
         raise HybridError("bench: frames, spp, gt_spp and max_path_spp must be >= 1")
-    scene, name = _scene(spec, params)
+    scene, name = load_bench_scene(spec, params)
     max_depth = int(properties.get("max_depth", -1))
     reference, gt_file, cached = None, None, False
     if accuracy:

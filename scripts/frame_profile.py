@@ -33,8 +33,9 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.bench import load_bench_scene
 
-    scene = hi.load_scene(args.scene, **dict(d.split("=", 1) for d in args.defines))
+    scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))
     camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
     props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {})}
     hi.render_sequence(scene, [camera] * 3, spp=1, layers=False, **props)  # compiles and records

@@ -43,10 +43,19 @@ def renderer_name() -> str:
 
 
 def machine() -> dict[str, str]:
-    """What a measurement ran on: Mitsuba variant, OpenGL renderer, CPU (for reports)."""
+    """What a measurement ran on: Mitsuba variant, OpenGL renderer, CPU model and cores (for
+    reports: the host's speed shows in every frame's issue time)."""
+    import os
+
     import mitsuba as mi
 
-    return {"variant": mi.variant(), "gl_renderer": renderer_name(), "cpu": platform.processor() or platform.machine()}
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as info:
+            model = next(line.split(":", 1)[1].strip() for line in info if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return {"variant": mi.variant(), "gl_renderer": renderer_name(), "cpu": f"{model}, {os.cpu_count()} threads"}
 
 
 # OpenGL enums of the calls below (glcorearb.h)
