@@ -132,22 +132,24 @@ class Coverage:
     @classmethod
     def of(cls, sums, width: int, height: int, n_objects: int) -> "Coverage":
         """From the sums of :func:`coverage_sums` (read back here, after the frame)."""
-        sums = np.array(sums, dtype=np.float64).reshape(4, -1)[:, :n_objects]
+        n = max(n_objects, 1)
+        sums = np.array(sums, dtype=np.float64)[:4 * n].reshape(4, n)[:, :n_objects]
         pixels, row_sum, col_sum, depth_sum = sums
         n_hits, total_depth = pixels.sum(), depth_sum.sum()
         return cls(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum,
                    float(total_depth / n_hits) if n_hits else 0.0)
 
 
-def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int) -> mi.Float:
+def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int,
+                  extra: int = 0) -> mi.Float:
     """Per-object sums over a visibility buffer (pixels in row-major order), reduced on the device
     (``dr.scatter_reduce``, in the kernel that computes them): pixels, row and column centres,
-    depths, one block of ``n_objects`` each. Only these few numbers per object reach the host,
-    after the frame (:meth:`Coverage.of`)."""
+    depths, one block of ``n_objects`` each, then ``extra`` zeros for the caller's own counts.
+    Only these few numbers per object reach the host, after the frame (:meth:`Coverage.of`)."""
     index = dr.arange(mi.UInt32, width * height)
     row, col = mi.Float(index // width) + 0.5, mi.Float(index % width) + 0.5
     n = max(n_objects, 1)
-    sums = dr.zeros(mi.Float, 4 * n)
+    sums = dr.zeros(mi.Float, 4 * n + extra)
     for k, value in enumerate((mi.Float(1.0), row, col, depth)):
         dr.scatter_reduce(dr.ReduceOp.Add, sums, value, k * n + obj, valid)
     return sums

@@ -243,8 +243,8 @@ class PassOutput:
 
     image: mi.TensorXf  # the image block (film filter, weight channel last)
     layers: object  # the layer block (raster, rt, traced, weight) or None
-    #: rays per object of each kind (RAY_KINDS order), traced pixels, proxy and edge refinements,
-    #: then the coverage sums (heuristic.coverage_sums, 4 × objects) as float bits
+    #: rays per object of each kind (RAY_KINDS order), traced pixels, then as float bits the
+    #: coverage sums (heuristic.coverage_sums, 4 × objects) and the proxy and edge refinements
     counts: mi.UInt32
     aovs: dict
 
@@ -265,8 +265,8 @@ class PassCounts:
         words = np.array(output.counts)
         end = len(RAY_KINDS) * width
         rays = words[:end].astype(np.int64).reshape(len(RAY_KINDS), width)[:, :n_objects].T
-        pixels, proxy, edge = (int(v) for v in words[end:end + 3])
-        return cls(words[end + 3:].view(np.float32), rays, pixels, proxy, edge)
+        sums = words[end + 1:].view(np.float32)
+        return cls(sums[:4 * width], rays, int(words[end]), int(sums[4 * width]), int(sums[4 * width + 1]))
 
 
 def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic, clock: StageClock) -> PassOutput:
@@ -292,14 +292,16 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     # 3. selection (§4): the selected objects' pixels whose material needs an effect; coverage (eq. 1)
     selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
                               static.has_emitters)
-    sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects)
+    sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects, extra=2)
+    n = max(static.n_objects, 1)  # then the refined pixels: proxies, silhouettes and misses
+    dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, 4 * n - 1 + hits.refined, hits.refined > 0)
     clock.mark("select", selection.traced, selection.config, sums)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
     rt, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                n_objects=static.n_objects, first_effects=static.configs,
                                first_config=selection.config)
-    clock.mark("trace", rt, counts.per_object, counts.pixels)
+    clock.mark("trace", rt, counts.per_object)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
     index = dr.arange(mi.UInt32, w * h)
@@ -315,7 +317,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(selection.traced, 1.0, 0.0),
                               mi.Float(1.0)])
         layers = layer_block.tensor()
-    packed = dr.concat([counts.per_object, counts.pixels, hits.refined, dr.reinterpret_array(mi.UInt32, sums)])
+    packed = dr.concat([counts.per_object, dr.reinterpret_array(mi.UInt32, sums)])
     clock.mark("compose", block.tensor(), layers, packed)
     return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs)
 

@@ -54,8 +54,8 @@ class PrimaryHits:
     object: mi.UInt32
     #: the pixel's first hit is a surface (background pixels and proxy misses are False)
     valid: mi.Bool
-    #: pixels whose hit came from a ray, on the device: [analytic shape proxies, silhouettes and
-    #: raster misses] (module docstring)
+    #: per pixel, why its hit came from a ray: 0 it did not, 1 an analytic shape's proxy,
+    #: 2 a silhouette or a raster miss (module docstring)
     refined: mi.UInt32
 
 
@@ -171,10 +171,8 @@ def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: 
     obj = dr.select(refine, object_indices(tables.object, tables.first_triangle, shape, pi.prim_index, valid),
                     record.object)
     si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
-    refined = dr.zeros(mi.UInt32, 2)  # counted in the same kernel
-    dr.scatter_reduce(dr.ReduceOp.Add, refined, 1, 0, proxy)
-    dr.scatter_reduce(dr.ReduceOp.Add, refined, 1, 1, edge)
-    return PrimaryHits(ray=ray, si=si, shape=shape, object=obj, valid=valid, refined=refined)
+    refined = dr.select(proxy, 1, dr.select(edge, 2, 0))
+    return PrimaryHits(ray=ray, si=si, shape=shape, object=obj, valid=valid, refined=mi.UInt32(refined))
 
 
 def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> PrimaryHits:
@@ -182,7 +180,7 @@ def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> Prima
     si = scene.ray_intersect(ray)
     valid = si.is_valid()
     shape = shape_indices(tables.pointer_shape, si.shape, valid)
-    return PrimaryHits(ray=ray, si=si, shape=shape, valid=valid, refined=dr.zeros(mi.UInt32, 2),
+    return PrimaryHits(ray=ray, si=si, shape=shape, valid=valid, refined=mi.UInt32(0),
                        object=object_indices(tables.object, tables.first_triangle, shape, si.prim_index, valid))
 
 

@@ -88,7 +88,7 @@ def compact(mask: mi.Bool) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
     arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
     once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
-    ``n`` back to the host to size its result. Returns (index, lane active, n as a 1-element array)."""
+    ``n`` back to the host to size its result. Returns (index, lane active, slot of each set lane)."""
     flags = mi.UInt32(mask)
     slot = dr.prefix_sum(flags)
     last = dr.width(mask) - 1
@@ -96,4 +96,4 @@ def compact(mask: mi.Bool) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     lane = dr.arange(mi.UInt32, dr.width(mask))
     index = dr.zeros(mi.UInt32, dr.width(mask))
     dr.scatter(index, lane, slot, mask)
-    return index, lane < n, n
+    return index, lane < n, slot

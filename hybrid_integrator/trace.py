@@ -34,10 +34,9 @@ from .selection import lobes as followed_lobes
 class TraceCounts:
     """Secondary rays of one pass, per object and kind, left on the device: ``per_object[k·n + i]``
     counts the rays of kind ``RAY_KINDS[k]`` spawned from object ``i``'s pixels, at every depth
-    (n: the scene's object count)."""
+    (n: the scene's object count); the last entry counts the traced pixels."""
 
     per_object: mi.UInt32
-    pixels: mi.UInt32  # traced pixels (a 1-element array)
 
 
 def _mis(a, b):
@@ -87,9 +86,8 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     n = dr.width(traced)
     width = max(n_objects, 1)
     if first_effects == ():  # no object deserves any effect: nothing can be traced
-        return dr.zeros(mi.Color3f, n), TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width),
-                                                    pixels=mi.UInt32(0))
-    pixel, active, count = compact(traced)  # only the selected pixels are traced: cost follows the selection
+        return dr.zeros(mi.Color3f, n), TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
+    pixel, active, slot = compact(traced)  # only the selected pixels are traced: cost follows the selection
     ray = dr.gather(mi.Ray3f, ray, pixel, active)
     si = dr.gather(mi.SurfaceInteraction3f, si, pixel, active)
     first = tuple(Lobes.of(e) for e in (first_effects if first_effects is not None else (effects,)))
@@ -99,13 +97,14 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     rng = mi.PCG32(n)
     rng.seed(dr.gather(mi.UInt64, seed, 0), mi.UInt64(pixel))
     L, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
-    radiance = dr.zeros(mi.Color3f, n)
-    dr.scatter(radiance, L, pixel, active)
+    dr.eval(L, rays)  # one kernel: the loop runs once for both
+    radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
     objects = dr.gather(mi.UInt32, obj, pixel, active)
-    per_object = dr.zeros(mi.UInt32, len(RAY_KINDS) * width)
+    per_object = dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1)
     for k, r in enumerate(rays):
         dr.scatter_reduce(dr.ReduceOp.Add, per_object, r, k * width + objects, active)
-    return radiance, TraceCounts(per_object=per_object, pixels=mi.UInt32(count))
+    dr.scatter_reduce(dr.ReduceOp.Add, per_object, 1, len(RAY_KINDS) * width, active)
+    return radiance, TraceCounts(per_object=per_object)
 
 
 @dataclass
