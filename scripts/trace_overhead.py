@@ -74,7 +74,7 @@ def main() -> None:
 
     def call(scene, ray, si, traced, obj, seed):
         rt, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
-        return rt, counts.per_object, counts.pixels
+        return rt, counts.per_object
 
     frozen = dr.freeze(call)
     seed = dr.opaque(mi.UInt64, 1)
