@@ -21,7 +21,7 @@ its primary hit came from.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import drjit as dr
 import mitsuba as mi

@@ -2,7 +2,6 @@
 frozen device pass where the scene has no table lights (issue 10)."""
 from __future__ import annotations
 
-import drjit as dr
 import mitsuba as mi
 import numpy as np
 import pytest
