@@ -37,7 +37,7 @@ from scipy.stats import qmc
 
 from .budget import FramePlan, FrameState, plan_frame
 from .compose import compose
-from .errors import HybridError
+from .errors import HybridError, UnsupportedSceneError
 from .heuristic import Coverage, candidate_kinds, coverage_sums, object_relevance, visibility_terms
 from .lighting import INPUTS, DeferredLighting, LightTable, shade
 from .objects import scene_objects
@@ -349,6 +349,9 @@ class HybridRenderer:
     and its device pass (recorded once per configuration)."""
 
     def __init__(self, scene: mi.Scene, rasterizer: Rasterizer):
+        if not scene.shapes():
+            # the device pass's tables would be empty, which Dr.Jit cannot freeze (it aborts)
+            raise UnsupportedSceneError("the scene has no shapes: there is nothing to rasterize or trace")
         self.scene = scene
         self.objects = scene_objects(scene)
         self.raster = rasterizer

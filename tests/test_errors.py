@@ -81,3 +81,12 @@ def test_bad_aov_and_offset():
 def test_sensor_index_out_of_range():
     with pytest.raises(hi.UnsupportedSceneError, match="sensor index 3 is out of range"):
         hi.rasterize(load(DEFAULT_SCENE), sensor=3)
+
+
+@pytest.mark.parametrize("lights", [{}, {"sky": {"type": "constant"}}], ids=["empty", "only an emitter"])
+def test_scene_without_shapes(lights):
+    """Nothing to draw or trace: a clear error, not a Dr.Jit abort on an empty frozen input."""
+    scene = mi.load_dict({"type": "scene", **lights,
+                          "sensor": {"type": "perspective", "film": {"type": "hdrfilm", "width": 16, "height": 8}}})
+    with pytest.raises(hi.UnsupportedSceneError, match="the scene has no shapes"):
+        hi.render(scene, spp=1)
