@@ -432,8 +432,7 @@ class HybridRenderer:
         cov = state.coverage
         if not isinstance(cov, Coverage) or (cov.width, cov.height) != (frame.camera.width, frame.camera.height):
             probe = self._pass(settings, frame, mi.Int32(np.full(len(self.objects), -1, np.int32)), seed, 0, (0.5, 0.5))
-            counts = PassCounts.read(probe, len(self.objects))
-            cov = Coverage.of(counts.coverage, frame.camera.width, frame.camera.height, len(self.objects))
+            cov = self._coverage(frame, PassCounts.read(probe, len(self.objects)))
             self.clock.frame_times()  # not this frame's work
         plan = self._plan(settings, frame, state, cov)
         traced = np.array([k in plan.traced for k in range(len(self.objects))])
@@ -466,10 +465,13 @@ class HybridRenderer:
         clock.lap("replay")
         return output
 
+    def _coverage(self, frame: _Frame, counts: PassCounts) -> Coverage:
+        return Coverage.of(counts.coverage, frame.camera.width, frame.camera.height, len(self.objects))
+
     def _account(self, settings: HybridSettings, frame: _Frame, plan: FramePlan | None, state: FrameState,
                  passes: list[PassCounts], clock: "_HostClock") -> None:
         """After the frame's synchronization: its statistics, and what the next frame learns."""
-        stats, n = frame.stats, len(self.objects)
+        stats = frame.stats
         clock.lap("readback")
         stats.times_ms.update(self.clock.frame_times())
         clock.lap("timing")
@@ -484,7 +486,7 @@ class HybridRenderer:
         stats.pixels_traced = sum(p.pixels for p in passes)
         stats.proxy_refinements = sum(p.proxy_refined for p in passes)
         stats.edge_refinements = sum(p.edge_refined for p in passes)
-        cov = Coverage.of(passes[0].coverage, frame.camera.width, frame.camera.height, n)
+        cov = self._coverage(frame, passes[0])
         if plan is None:  # no budget: every visible candidate was traced; most relevant first
             terms = visibility_terms(cov, frame.kinds, settings.effects, state.selected, settings.importance)
             visible = np.nonzero(terms.candidate)[0]
@@ -492,11 +494,12 @@ class HybridRenderer:
             planned = set(ordered)
             stats.candidates_visible = len(ordered)
         else:
-            ordered = [o.index for o in plan.objects if o.index in plan.traced and cov.pixels[o.index] > 0]
+            traced = [o for o in plan.objects if o.index in plan.traced and cov.pixels[o.index] > 0]
+            ordered = [o.index for o in traced]
             planned = plan.traced
             total = sum(o.relevance for o in plan.objects)
             stats.candidates_visible = len(plan.objects)
-            stats.relevance_captured = float(sum(o.relevance for o in plan.objects if o.index in ordered) / total) if total > 0 else 1.0
+            stats.relevance_captured = float(sum(o.relevance for o in traced) / total) if total > 0 else 1.0
             stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if plan.traced else 0.0
             stats.predicted_rays = int(sum(plan.rays.values()) * len(passes))
             if plan.traced:

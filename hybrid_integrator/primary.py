@@ -126,6 +126,7 @@ class RasterRecord:
     t: mi.Float  # distance along the camera ray
     uv: mi.Point2f  # barycentrics, clamped into the triangle
     inside: mi.Bool  # the camera ray passes through the triangle (up to MISS_TOLERANCE)
+    proxy: mi.Bool  # the triangle belongs to an analytic shape's proxy
 
 
 def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> RasterRecord:
@@ -140,10 +141,10 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
     hit &= ~(inside & (t > ray.maxt))  # beyond the far clip: background, as for the camera ray
     uv = dr.maximum(uv, 0.0)
     uv /= dr.maximum(uv.x + uv.y, 1.0)  # clamped into the triangle: raster samples sit on its edges too
-    proxy = dr.gather(mi.Bool, tables.proxy, shape, hit)
+    proxy = hit & dr.gather(mi.Bool, tables.proxy, shape, hit)
     return RasterRecord(hit=hit, shape=shape, object=dr.gather(mi.UInt32, tables.object, triangle, hit),
                         prim=dr.select(proxy, 0, triangle - dr.gather(mi.UInt32, tables.first_triangle, shape, hit)),
-                        t=t, uv=uv, inside=inside)
+                        t=t, uv=uv, inside=inside, proxy=proxy)
 
 
 def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
@@ -151,7 +152,7 @@ def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: 
     """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
     ``ray`` of a ``width`` × ``height`` frame."""
     record = resolve(triangle_id, ray, tables)
-    proxy = record.hit & dr.gather(mi.Bool, tables.proxy, record.shape, record.hit)
+    proxy = record.proxy
     edge = (silhouettes(dr.select(record.hit, record.object + 1, 0), width, height)
             | (record.hit & ~record.inside)) & ~proxy
     refine = proxy | edge
@@ -192,7 +193,6 @@ def visibility_buffer(ray: mi.Ray3f, triangle_id: mi.UInt32, tables: TriangleTab
 
     w, h = size
     record = resolve(triangle_id, ray, tables)
-    proxy = record.hit & dr.gather(mi.Bool, tables.proxy, record.shape, record.hit)
     depth = record.t + dr.norm(ray.o - mi.Point3f(*(float(c) for c in eye)))  # camera rays start on the near plane
     hit = np.array(record.hit).reshape(h, w)
     return VisibilityBuffer(
@@ -200,4 +200,4 @@ def visibility_buffer(ray: mi.Ray3f, triangle_id: mi.UInt32, tables: TriangleTab
         prim_index=np.where(hit, np.array(record.prim).reshape(h, w), 0).astype(np.uint32),
         bary=np.where(hit[..., None], np.stack([np.array(record.uv.x), np.array(record.uv.y)], -1).reshape(h, w, 2), 0.0).astype(np.float32),
         depth=np.where(hit, np.array(depth).reshape(h, w), np.inf).astype(np.float32),
-        proxy=np.array(proxy).reshape(h, w), offset=(float(offset[0]), float(offset[1])))
+        proxy=np.array(record.proxy).reshape(h, w), offset=(float(offset[0]), float(offset[1])))

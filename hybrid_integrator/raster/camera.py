@@ -28,6 +28,7 @@ SUPPORTED_SENSOR = "PerspectiveCamera"
 
 #: the last camera built for each sensor (by ``id``), with the parameters it was built from
 _CAMERAS: dict[int, tuple[tuple, list, "RasterCamera"]] = {}
+_CAMERAS_KEPT = 16
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,8 @@ class RasterCamera:
         camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
                      eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far))
         _CAMERAS[id(sensor)] = (key, values, camera)
+        while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
+            del _CAMERAS[next(iter(_CAMERAS))]
         return camera
 
     def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:

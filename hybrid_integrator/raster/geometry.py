@@ -42,7 +42,6 @@ class SceneGeometry:
     faces: np.ndarray  # (n_triangles, 3) uint32, indices into ``positions``
     first_triangle: np.ndarray  # (n_shapes + 1,) int64: shape k owns triangles [first[k], first[k + 1])
     proxy: np.ndarray  # (n_shapes,) bool: the shape is an analytic shape drawn as a proxy
-    names: tuple[str, ...]  # per shape
 
     @property
     def triangles_per_shape(self) -> np.ndarray:
@@ -65,7 +64,7 @@ def scene_geometry(scene: mi.Scene) -> SceneGeometry:
         faces=(np.concatenate([s.faces.astype(np.int64) + o for s, o in zip(shapes, offsets)]).astype(np.uint32)
                if shapes else np.zeros((0, 3), np.uint32)),
         first_triangle=np.cumsum([0] + counts).astype(np.int64),
-        proxy=np.array([s.proxy for s in shapes], dtype=bool), names=tuple(s.name for s in shapes))
+        proxy=np.array([s.proxy for s in shapes], dtype=bool))
 
 
 def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:

@@ -94,7 +94,6 @@ class Rasterizer:
         self._depth = depth_precision()
         self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
         self._readback: Readback | None = None
-        self._timer = self.ctx.query(time=True)
 
     def _framebuffer(self, width: int, height: int) -> moderngl.Framebuffer:
         key = (width, height)
@@ -106,29 +105,22 @@ class Rasterizer:
         return self._targets[key]
 
     def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5)) -> moderngl.Framebuffer:
-        """The raster pass alone: draw the scene into the camera's target (left on the GPU); its
-        GPU time is kept for :attr:`last_ms`."""
+        """The raster pass alone: draw the scene into the camera's target (left on the GPU)."""
         w, h = camera.width, camera.height
         fbo = self._framebuffer(w, h)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
-        with self._timer:
-            # 0 is the background in the integer target; depth 0 is infinitely far (reversed Z)
-            fbo.clear(0.0, 0.0, 0.0, 0.0, depth=0.0)
-            if self._vao is not None:
-                self.ctx.enable(moderngl.DEPTH_TEST)
-                self.ctx.disable(moderngl.CULL_FACE)  # the mirrored projection flips the winding
-                self.ctx.depth_func = ">"
-                self._depth.zero_to_one(True)
-                self.program["world_to_clip"].write(camera.clip_matrix(offset).T.astype("f4").tobytes())
-                self._vao.render(moderngl.TRIANGLES)
-                self._depth.zero_to_one(False)
+        # 0 is the background in the integer target; depth 0 is infinitely far (reversed Z)
+        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=0.0)
+        if self._vao is not None:
+            self.ctx.enable(moderngl.DEPTH_TEST)
+            self.ctx.disable(moderngl.CULL_FACE)  # the mirrored projection flips the winding
+            self.ctx.depth_func = ">"
+            self._depth.zero_to_one(True)
+            self.program["world_to_clip"].write(camera.clip_matrix(offset).T.astype("f4").tobytes())
+            self._vao.render(moderngl.TRIANGLES)
+            self._depth.zero_to_one(False)
         return fbo
-
-    @property
-    def last_ms(self) -> float:
-        """GPU time of the last :meth:`render` (waits for it)."""
-        return self._timer.elapsed * 1e-6
 
     def read_ids(self, fbo: moderngl.Framebuffer) -> np.ndarray:
         """The target of :meth:`render` on the host: per pixel (row-major, row 0 at the top) the
