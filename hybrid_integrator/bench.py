@@ -40,7 +40,7 @@ from pathlib import Path
 import mitsuba as mi
 import numpy as np
 
-from .compare import ground_truth, timed_path
+from .compare import ground_truth, timed_path, timed_path_denoised
 from .errors import HybridError
 from .metrics import ImageError, image_error
 from .procedural import procedural_scene, scene_triangles
@@ -79,6 +79,7 @@ class Measurement:
     budget_ms: float | None = None
     pixels_traced: float | None = None  # median per frame
     secondary_rays: float | None = None  # median per frame
+    frames_accumulated: int | None = None  # temporal accumulation: frames in the measured image
 
 
 def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
@@ -115,17 +116,18 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     camera = mi.ScalarTransform4f(np.array(mi.traverse(sensor)["to_world"].matrix).reshape(4, 4))
     rows: list[Measurement] = []
 
-    def hybrid(method: str, kind: str, warmup: int, **extra) -> Measurement:
+    def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, **extra) -> Measurement:
         props = {"freeze": freeze, **properties, **extra}
-        results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=spp, seed=seed, layers=False,
-                                     **props)[warmup:]
+        results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
+                                     layers=False, **props)[warmup:]
         error = _error(np.array(results[-1].image, dtype=np.float32)[..., :3], reference)
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
-                          [s.times_ms["total"] for s in stats], error.flip, error.rel_mse, error.delta_e2000, spp,
+                          [s.times_ms["total"] for s in stats], error.flip, error.rel_mse, error.delta_e2000, frame_spp or spp,
                           {k: statistics.median(s.times_ms[k] for s in stats) for k in stats[0].times_ms},
                           extra.get("budget_ms"), statistics.median(s.pixels_traced for s in stats),
-                          statistics.median(s.secondary_rays for s in stats))
+                          statistics.median(s.secondary_rays for s in stats),
+                          warmup + frames if extra.get("temporal") else None)
         rows.append(row)
         return row
 
@@ -137,6 +139,12 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     trace_all = everything.stages_ms["trace"]
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
         hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))
+    if accuracy:  # the rest of the time–error plane: no denoiser, more samples, history
+        hybrid("hybrid, no denoiser", "hybrid", 3, denoise=False)
+        hybrid("hybrid, denoiser 'high'", "hybrid", 3, denoise_quality="high")
+        for s in (2, 4):
+            hybrid(f"hybrid {s * spp} spp", "hybrid", 3, frame_spp=s * spp)
+        history = hybrid("hybrid+history", "hybrid", 3, temporal=True)
 
     def path(method: str, path_spp: int) -> Measurement:
         image, times = timed_path(scene, path_spp, max_depth, seed, repeats=min(frames, 3))
@@ -156,6 +164,14 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         # at most 16× the curve's last point: further out the line is a guess
         equal = path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
         equal_time = {"spp": equal.spp, "time_ms": equal.time_ms, "flip": equal.flip}
+        # the history's frames, all of them, against path given their total time
+        total = history.time_ms * history.frames_accumulated
+        path("path@history-time", int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
+        for s in (1, 2, 4):  # path + the same denoiser
+            image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=min(frames, 3))
+            error = _error(image, reference)
+            rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
+                                    error.flip, error.rel_mse, error.delta_e2000, s))
 
     film = sensor.film().size()
     meshes = [sh for sh in scene.shapes() if isinstance(sh, mi.Mesh)]
@@ -271,18 +287,35 @@ def chart(report: dict, path: Path) -> None:
 
     methods = report["methods"]
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    curves = {"hybrid, budget 0–75 %": [m for m in methods if m["method"].startswith("hybrid@")],
-              "Mitsuba path, 1…N spp": [m for m in methods if m["method"].startswith("path@") and m["method"][5].isdigit()]}
-    for label, ms in curves.items():
+    by_name = {m["method"]: m for m in methods}
+    budgets = [m for m in methods if m["method"].startswith("hybrid@")] + [by_name[k] for k in ("hybrid",) if k in by_name]
+    curves = {"hybrid, budget 0…100 %": (budgets, lambda m: m["method"].split("@")[1] if "@" in m["method"] else "100%"),
+              "hybrid, spp per frame": ([by_name[k] for k in by_name if k == "hybrid" or k.endswith(" spp") and k.startswith("hybrid ")],
+                                        lambda m: f"{m['spp']}"),
+              "Mitsuba path, 1…N spp": ([m for m in methods if m["method"].startswith("path@") and m["method"][5].isdigit()],
+                                        lambda m: m["method"].split("@")[1]),
+              "path + denoiser": ([m for m in methods if m["method"].startswith("path+denoiser@")],
+                                  lambda m: m["method"].split("@")[1])}
+    for label, (ms, tag) in curves.items():
+        if not ms:
+            continue
+        ms = sorted(ms, key=lambda m: m["time_ms"]) if label.startswith(("Mitsuba", "path")) else ms
         ax.plot([m["time_ms"] for m in ms], [m["flip"] for m in ms], "o-", label=label)
         for m in ms:
-            ax.annotate(m["method"].split("@")[1], (m["time_ms"], m["flip"]), fontsize=7, xytext=(3, 3),
-                        textcoords="offset points")
-    for name, marker in (("raster", "s"), ("hybrid", "D"), ("rt-baseline", "^"), ("path@equal-time", "*")):
-        m = next((x for x in methods if x["method"] == name), None)
+            ax.annotate(tag(m), (m["time_ms"], m["flip"]), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    for name, marker in (("raster", "s"), ("hybrid, no denoiser", "P"), ("rt-baseline", "^"), ("path@equal-time", "*")):
+        m = by_name.get(name)
         if m is None:
             continue
         ax.plot([m["time_ms"]], [m["flip"]], marker, markersize=9, label=f"{name} ({m['spp']} spp)" if name.startswith("path") else name)
+    history = by_name.get("hybrid+history")
+    if history:  # its frames together against path given the same total time
+        total = history["time_ms"] * history["frames_accumulated"]
+        ax.plot([total], [history["flip"]], "X", markersize=10,
+                label=f"hybrid + history: {history['frames_accumulated']} frames (total time)")
+        p = by_name.get("path@history-time")
+        if p:
+            ax.plot([p["time_ms"]], [p["flip"]], "x", markersize=10, label=f"path at that time ({p['spp']} spp)")
     ax.set_xscale("log")
     ax.set_xlabel("time per frame (ms, log)")
     ax.set_ylabel("FLIP against the ground truth")

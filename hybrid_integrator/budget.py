@@ -118,6 +118,18 @@ class FrameState:
     rays_per_pixel: dict[int, dict[str, float]] = field(default_factory=dict)
     #: the objects' coverage in the last frame (``heuristic.Coverage``): what the next frame plans from
     coverage: object | None = None
+    #: the accumulated frames (``temporal.History``), with ``temporal`` on
+    history: object | None = None
+
+    #: per object, the error per traced pixel that tracing removed (heuristic.py, relevance="error")
+    error_per_pixel: dict[int, float] = field(default_factory=dict)
+
+    def learn_error(self, index: int, pixels: int, error_sum: float, smoothing: float = 0.5) -> None:
+        if pixels <= 0:
+            return
+        value = error_sum / pixels
+        old = self.error_per_pixel.get(index)
+        self.error_per_pixel[index] = value if old is None else smoothing * old + (1 - smoothing) * value
 
     def learn_rays(self, index: int, pixels: int, rays: dict[str, int], smoothing: float = 0.5) -> None:
         if pixels <= 0:

@@ -38,10 +38,14 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--max-depth", dest="max_depth", type=int, help="as Mitsuba's path (-1: unlimited)")
     g.add_argument("--budget-ms", dest="budget_ms", type=float, help="frame-time budget for ray tracing (0: unlimited)")
     g.add_argument("--hide-emitters", dest="hide_emitters", action="store_true", default=None)
+    g.add_argument("--denoise", action=argparse.BooleanOptionalAction, default=None,
+                   help="Open Image Denoise with the G-buffer's albedo and normal (default: on)")
+    g.add_argument("--denoise-quality", dest="denoise_quality", choices=("fast", "balanced", "high"))
 
 
 def _properties(args) -> dict:
-    names = ("primary", "effects", "candidates", "blend", "max_depth", "budget_ms", "hide_emitters")
+    names = ("primary", "effects", "candidates", "blend", "max_depth", "budget_ms", "hide_emitters", "denoise",
+             "denoise_quality")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 
 

@@ -81,6 +81,33 @@ def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: in
     return np.array(image, dtype=np.float32)[..., :3], times
 
 
+def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1,
+                        quality: str = "high") -> tuple[np.ndarray, list[float]]:
+    """Mitsuba ``path`` + the hybrid's denoiser, as a real-time path tracer runs it: ``path`` inside
+    Mitsuba's ``aov`` integrator (first-hit albedo and shading normal as the guides, in the same
+    render), through a copy of the sensor with a ``box`` filter (the denoiser needs uncorrelated
+    pixels), then Open Image Denoise (``denoise.py``). Timed as :func:`timed_path`, denoiser
+    included."""
+    from .denoise import Denoiser, Guides
+    from .raster.camera import sensor_like
+
+    size = scene.sensors()[0].film().size()
+    sensor = sensor_like(scene.sensors()[0], int(size[0]), int(size[1]), rfilter="box")
+    integrator = mi.load_dict({"type": "aov", "aovs": "albedo:albedo,nn:sh_normal",
+                               "integrator": {"type": "path", "max_depth": int(max_depth)}})
+    denoiser = Denoiser(quality)
+    times, image = [], None
+    for r in range(repeats + 1):
+        start = time.perf_counter()
+        out = mi.render(scene, integrator=integrator, sensor=sensor, spp=spp, seed=seed)
+        image = denoiser(out[..., 0:3], Guides(albedo=out[..., 3:6], normal=out[..., 6:9]))
+        dr.eval(image)
+        dr.sync_thread()
+        if r:
+            times.append((time.perf_counter() - start) * 1e3)
+    return np.array(image, dtype=np.float32)[..., :3], times
+
+
 def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
     """Mitsuba ``path`` at ``spp``, from the cache when the same scene and settings were rendered
     before. Returns (image, file, whether it came from the cache). ``scene_path`` is the scene

@@ -26,6 +26,17 @@ non-candidates; ``""`` means none.
   for Q_k rays;
 - **R_k = S_k · I + V_k** (eq. 3), S_k = 1 if k was selected in the previous frame, I the
   integrator's ``importance``: hysteresis against flicker.
+
+**Relevance by the error tracing removes** (``relevance="error"``, the default). Eq. 1 ranks
+objects by how much of the screen they cover, not by how wrong their raster layer is: a large
+diffuse floor outranks a small glass object whose raster pixels are far from the truth. So each
+frame also measures, per traced object, E_k: the mean over its traced pixels of
+``|τ(traced) − τ(raster)|``, the difference between its exact and its cheap estimate in
+tone-mapped luminance (τ(x) = Y/(1+Y), so that a bright highlight does not outweigh a whole
+shadow); it is learnt across frames (``FrameState.error_per_pixel``, an average that halves the
+weight of the past each frame). Then **R_k = S_k · I + V_k · E_k / Ē**, Ē the mean of the learnt
+E over the scene's objects, an object never traced yet taking Ē (so that it is tried). With
+``relevance="area"``, R is the paper's eq. 3.
 """
 from __future__ import annotations
 
@@ -39,6 +50,8 @@ from .cache import scene_state
 from .errors import HybridError
 from .objects import scene_objects
 from .selection import EFFECTS as KINDS  # the ray kinds an object may deserve are the effects
+RELEVANCE = ("error", "area")
+BLOCKS = 5  # per-object sums of coverage_sums: pixels, rows, columns, depths, errors
 PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
 
 
@@ -71,7 +84,7 @@ def candidate_kinds(value, scene: mi.Scene) -> list[tuple[str, ...]]:
     the ``candidates`` property: ``None`` (every object, material defaults), a string
     ``"id[:kind|kind], ..."``, or a mapping ``{id: kinds or None}``."""
     ids = scene_objects(scene).names
-    defaults = scene_state(scene, "material_kinds", lambda: _material_defaults(scene))
+    defaults = default_kinds(scene)
     if value is None:
         return defaults
     if isinstance(value, str):
@@ -89,10 +102,13 @@ def candidate_kinds(value, scene: mi.Scene) -> list[tuple[str, ...]]:
             for k, i in enumerate(ids)]
 
 
-def _material_defaults(scene: mi.Scene) -> list[tuple[str, ...]]:
+def default_kinds(scene: mi.Scene) -> list[tuple[str, ...]]:
     """Each object's kinds from its material (read once per scene)."""
-    kinds = [material_kinds(shape.bsdf()) for shape in scene.shapes()]
-    return [kinds[int(k)] for k in scene_objects(scene).shape]
+    def read():
+        kinds = [material_kinds(shape.bsdf()) for shape in scene.shapes()]
+        return [kinds[int(k)] for k in scene_objects(scene).shape]
+
+    return scene_state(scene, "material_kinds", read)
 
 
 @dataclass(frozen=True)
@@ -109,13 +125,14 @@ class ObjectRelevance:
     visibility: float  # V, eq. 1
     rays: dict[str, float]  # Q per kind
     cost: float  # C = V·Q, eq. 2
-    relevance: float  # R = S·I + V, eq. 3
+    relevance: float  # R = S·I + V (eq. 3), V weighted by the learnt error (relevance="error")
 
 
 @dataclass(frozen=True)
 class Coverage:
     """What one visibility buffer says about each object: its pixels, the sums of their row and
-    column centres and of their depths."""
+    column centres and of their depths, and over its traced pixels the sum of the error tracing
+    removed (module docstring; zero where it was not traced)."""
 
     width: int
     height: int
@@ -124,6 +141,7 @@ class Coverage:
     col_sum: np.ndarray
     depth_sum: np.ndarray
     mean_depth: float  # over every hit pixel
+    error_sum: np.ndarray
 
     @property
     def any(self) -> bool:
@@ -133,26 +151,39 @@ class Coverage:
     def of(cls, sums, width: int, height: int, n_objects: int) -> "Coverage":
         """From the sums of :func:`coverage_sums` (read back here, after the frame)."""
         n = max(n_objects, 1)
-        sums = np.array(sums, dtype=np.float64)[:4 * n].reshape(4, n)[:, :n_objects]
-        pixels, row_sum, col_sum, depth_sum = sums
+        sums = np.array(sums, dtype=np.float64)[:BLOCKS * n].reshape(BLOCKS, n)[:, :n_objects]
+        pixels, row_sum, col_sum, depth_sum, error_sum = sums
         n_hits, total_depth = pixels.sum(), depth_sum.sum()
         return cls(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum,
-                   float(total_depth / n_hits) if n_hits else 0.0)
+                   float(total_depth / n_hits) if n_hits else 0.0, error_sum)
 
 
 def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int,
                   extra: int = 0) -> mi.Float:
     """Per-object sums over a visibility buffer (pixels in row-major order), reduced on the device
     (``dr.scatter_reduce``, in the kernel that computes them): pixels, row and column centres,
-    depths, one block of ``n_objects`` each, then ``extra`` zeros for the caller's own counts.
-    Only these few numbers per object reach the host, after the frame (:meth:`Coverage.of`)."""
+    depths, one block of ``n_objects`` each, a block for the error (:func:`add_error`, after the
+    trace), then ``extra`` zeros for the caller's own counts. Only these few numbers per object
+    reach the host, after the frame (:meth:`Coverage.of`)."""
     index = dr.arange(mi.UInt32, width * height)
     row, col = mi.Float(index // width) + 0.5, mi.Float(index % width) + 0.5
     n = max(n_objects, 1)
-    sums = dr.zeros(mi.Float, 4 * n + extra)
+    sums = dr.zeros(mi.Float, BLOCKS * n + extra)
     for k, value in enumerate((mi.Float(1.0), row, col, depth)):
         dr.scatter_reduce(dr.ReduceOp.Add, sums, value, k * n + obj, valid)
     return sums
+
+
+def add_error(sums: mi.Float, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color3f, cheap: mi.Color3f,
+              n_objects: int) -> None:
+    """Add each traced pixel's ``|τ(exact) − τ(cheap)|`` (module docstring) to its object's error
+    sum in ``sums`` (:func:`coverage_sums`)."""
+    def tone(c):
+        y = mi.luminance(c)
+        return y / (1.0 + y)
+
+    n = max(n_objects, 1)
+    dr.scatter_reduce(dr.ReduceOp.Add, sums, dr.abs(tone(exact) - tone(cheap)), 4 * n + obj, traced)
 
 
 def coverage(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int) -> Coverage:
@@ -173,9 +204,22 @@ class VisibilityTerms:
     candidate: np.ndarray  # bool: a visible object that deserves one of the integrator's effects
 
 
+def error_weights(n_objects: int, error_per_pixel: dict[int, float] | None) -> np.ndarray:
+    """E_k / Ē per object (module docstring); all ones without learnt errors (``relevance="area"``)."""
+    weights = np.ones(n_objects)
+    if error_per_pixel:
+        known = {k: v for k, v in error_per_pixel.items() if k < n_objects}
+        mean = float(np.mean(list(known.values()))) if known else 0.0
+        if mean > 0:
+            for k, v in known.items():
+                weights[k] = v / mean
+    return weights
+
+
 def visibility_terms(cov: Coverage, kinds: list[tuple[str, ...]], effects: tuple[str, ...], selected_last: set[int],
-                     importance: float) -> VisibilityTerms:
-    """A, P, D, V (eq. 1) and R (eq. 3) of every object of a coverage, vectorized."""
+                     importance: float, error_per_pixel: dict[int, float] | None = None) -> VisibilityTerms:
+    """A, P, D, V (eq. 1) and R (eq. 3, V weighted by :func:`error_weights`) of every object of a
+    coverage, vectorized."""
     w, h = cov.width, cov.height
     n = cov.pixels.astype(np.float64)
     seen = np.maximum(n, 1.0)
@@ -187,17 +231,19 @@ def visibility_terms(cov: Coverage, kinds: list[tuple[str, ...]], effects: tuple
     bonus = np.zeros(len(n))
     bonus[[k for k in selected_last if k < len(n)]] = importance
     deserving = np.array([any(kind in effects for kind in ks) for ks in kinds], dtype=bool)
-    return VisibilityTerms(area, centrality, distance, visibility, bonus + visibility, deserving & (n > 0))
+    relevance = bonus + visibility * error_weights(len(n), error_per_pixel)
+    return VisibilityTerms(area, centrality, distance, visibility, relevance, deserving & (n > 0))
 
 
 def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[str],
                      effects: tuple[str, ...], selected_last: set[int], importance: float,
-                     rays_per_pixel: dict[int, dict[str, float]]) -> list[ObjectRelevance]:
-    """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`).
-    ``kinds`` are intersected with the integrator's ``effects``."""
+                     rays_per_pixel: dict[int, dict[str, float]],
+                     error_per_pixel: dict[int, float] | None = None) -> list[ObjectRelevance]:
+    """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`), with
+    the learnt errors where given. ``kinds`` are intersected with the integrator's ``effects``."""
     if not cov.any:
         return []
-    terms = visibility_terms(cov, kinds, effects, selected_last, importance)
+    terms = visibility_terms(cov, kinds, effects, selected_last, importance, error_per_pixel)
     out = []
     for k in np.nonzero(terms.candidate)[0]:
         active = tuple(kind for kind in kinds[k] if kind in effects)

@@ -37,8 +37,10 @@ from scipy.stats import qmc
 
 from .budget import FramePlan, FrameState, plan_frame
 from .compose import compose
+from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
-from .heuristic import Coverage, candidate_kinds, coverage_sums, object_relevance, visibility_terms
+from .heuristic import (BLOCKS, RELEVANCE, Coverage, add_error, candidate_kinds, coverage_sums, default_kinds,
+                        object_relevance, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, shade
 from .objects import scene_objects
 from .primary import camera_rays, primary_hits, traced_hits
@@ -47,11 +49,12 @@ from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_consta
 from .raster.visibility import Rasterizer, TriangleTables
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
 from .selection_graph import SELECTORS
+from .temporal import Accumulator, Surface
 from .trace import RAY_KINDS, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
-STAGES = ("raster", "lighting", "select", "trace", "compose")
-HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "readback", "timing")
+STAGES = ("raster", "lighting", "select", "trace", "compose", "temporal", "denoise")
+HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
 
 
 @dataclass(frozen=True)
@@ -66,14 +69,22 @@ class HybridSettings:
     candidates: object = None  # None: every object; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
     budget_ms: float = 0.0
-    selection: str = "greedy"
+    selection: str = "nested"
+    relevance: str = "error"
     importance: float = 0.0
     freeze: bool = True
+    denoise: bool = True
+    denoise_quality: str = "fast"
+    temporal: bool = False
 
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
         object.__setattr__(self, "effects", parse_effects(self.effects))
+        if self.denoise_quality not in QUALITIES:
+            raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
+        if self.relevance not in RELEVANCE:
+            raise HybridError(f"relevance='{self.relevance}' is not one of {list(RELEVANCE)}")
         if self.selection not in SELECTORS:
             raise HybridError(f"selection='{self.selection}' is not one of {list(SELECTORS)}")
         if not (math.isfinite(self.importance) and self.importance >= 0.0):
@@ -133,13 +144,15 @@ class FrameStats:
 
 
 class HybridResult:
-    """A rendered frame: ``image`` as ``mi.render`` returns it, the layers (H×W numpy, filtered
-    like the image: ``raster``, ``rt``, ``traced`` and any G-buffer AOV asked for; read from the
-    device on first access) and the frame's statistics."""
+    """A rendered frame: ``image`` as ``mi.render`` returns it, ``composed``: the same before
+    temporal accumulation and denoising (the film of the composed layers), the layers (H×W
+    numpy, filtered like the image: ``raster``, ``rt``, ``traced`` and any G-buffer AOV asked
+    for; read from the device on first access) and the frame's statistics."""
 
     def __init__(self, image: mi.TensorXf, stats: FrameStats, layers: mi.TensorXf | None = None,
-                 aovs: dict[str, np.ndarray] | None = None):
+                 aovs: dict[str, np.ndarray] | None = None, composed: mi.TensorXf | None = None):
         self.image, self.stats = image, stats
+        self.composed = image if composed is None else composed
         self._layer_sums, self._aovs, self._layers = layers, aovs or {}, None
 
     @property
@@ -182,11 +195,14 @@ class StageClock:
         self._taken: list[tuple[str, dict]] = []
 
     def mark(self, stage: str, *values) -> None:
+        """Evaluate ``values``; the kernels launched for them that no stage has claimed yet are
+        ``stage``'s (kernels of earlier stages flushed with them keep their own)."""
         dr.eval(*values)
         for entry in dr.kernel_history():
-            if entry.get("hash"):
+            new = entry.get("hash") and entry["hash"] not in self.stage_of
+            if new:
                 self.stage_of[entry["hash"]] = stage
-            self._taken.append((stage, entry))
+            self._taken.append((stage if new else None, entry))
 
     def frame_times(self) -> dict[str, float]:
         """The device ms per stage of the kernels since the last call (the frame's)."""
@@ -221,6 +237,8 @@ class PassStatic:
     has_emitters: bool
     background_alpha: bool  # an environment is seen behind the geometry
     n_objects: int
+    guides: bool  # splat the denoiser's guides (denoise.py)
+    surface: bool  # keep the first pass's surface for the temporal history (temporal.py)
 
 
 @dataclass
@@ -244,16 +262,18 @@ class PassOutput:
     image: mi.TensorXf  # the image block (film filter, weight channel last)
     layers: object  # the layer block (raster, rt, traced, weight) or None
     #: rays per object of each kind (RAY_KINDS order), traced pixels, then as float bits the
-    #: coverage sums (heuristic.coverage_sums, 4 × objects) and the proxy and edge refinements
+    #: coverage sums (heuristic.coverage_sums, BLOCKS × objects) and the proxy and edge refinements
     counts: mi.UInt32
     aovs: dict
+    guides: object = None  # the guide block (albedo, normal, weight) or None
+    surface: Surface | None = None  # what the pass hit, per pixel (for the history)
 
 
 @dataclass
 class PassCounts:
     """A :class:`PassOutput`'s counts on the host."""
 
-    coverage: np.ndarray  # 4 sums per object, one block each (heuristic.coverage_sums)
+    coverage: np.ndarray  # BLOCKS sums per object, one block each (heuristic.coverage_sums)
     rays: np.ndarray  # objects × ray kinds
     pixels: int
     proxy_refined: int
@@ -266,7 +286,8 @@ class PassCounts:
         end = len(RAY_KINDS) * width
         rays = words[:end].astype(np.int64).reshape(len(RAY_KINDS), width)[:, :n_objects].T
         sums = words[end + 1:].view(np.float32)
-        return cls(sums[:4 * width], rays, int(words[end]), int(sums[4 * width]), int(sums[4 * width + 1]))
+        return cls(sums[:BLOCKS * width], rays, int(words[end]), int(sums[BLOCKS * width]),
+                   int(sums[BLOCKS * width + 1]))
 
 
 def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic, clock: StageClock) -> PassOutput:
@@ -294,32 +315,52 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
                               static.has_emitters)
     sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects, extra=2)
     n = max(static.n_objects, 1)  # then the refined pixels: proxies, silhouettes and misses
-    dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, 4 * n - 1 + hits.refined, hits.refined > 0)
+    dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, BLOCKS * n - 1 + hits.refined, hits.refined > 0)
     clock.mark("select", selection.traced, selection.config, sums)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
     rt, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                n_objects=static.n_objects, first_effects=static.configs,
                                first_config=selection.config)
-    clock.mark("trace", rt, counts.per_object)
+    add_error(sums, hits.object, selection.traced, rt, raster, static.n_objects)  # what tracing changed
+    clock.mark("trace", rt, counts.per_object, sums)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
     index = dr.arange(mi.UInt32, w * h)
     pixel = mi.Point2f(mi.Float(index % w), mi.Float(index // w))
     pos = pixel if static.box_filter else pixel + offset
     film = sensor.film()
-    block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 5 if static.has_alpha else 4, film.rfilter())
+    # the denoiser needs each pixel's own samples (a wider filter correlates the noise of
+    # neighbours, which it then keeps as detail): a box filter when denoising
+    rfilter = _box_filter(mi.variant()) if static.guides else film.rfilter()
+    block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 5 if static.has_alpha else 4, rfilter)
     alpha = dr.select(hits.valid | static.background_alpha, 1.0, 0.0)
     block.put(pos, [color.x, color.y, color.z] + ([alpha] if static.has_alpha else []) + [mi.Float(1.0)])
     layers = None
     if static.layers:
-        layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, film.rfilter())
+        layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, rfilter)
         layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(selection.traced, 1.0, 0.0),
                               mi.Float(1.0)])
         layers = layer_block.tensor()
+    guides = surface = None
+    if static.guides:  # the denoiser's guides (denoise.py), filtered like the colour
+        albedo = [dr.clip(a + s, 0.0, 1.0) for a, s in zip(targets["albedo"], targets["specular"])]
+        albedo = [dr.select(hits.valid, a, dr.clip(c, 0.0, 1.0)) for a, c in zip(albedo, (color.x, color.y, color.z))]
+        guide_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 7, rfilter)
+        guide_block.put(pos, albedo + list(targets["normal"]) + [mi.Float(1.0)])
+        guides = guide_block.tensor()
+    if static.surface:
+        surface = Surface(position=mi.Point3f(*targets["position"]), normal=mi.Vector3f(*targets["normal"]),
+                          object=dr.select(hits.valid, hits.object, 0xFFFFFFFF))
     packed = dr.concat([counts.per_object, dr.reinterpret_array(mi.UInt32, sums)])
-    clock.mark("compose", block.tensor(), layers, packed)
-    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs)
+    clock.mark("compose", block.tensor(), layers, packed, guides, surface)
+    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs, guides=guides, surface=surface)
+
+
+@functools.lru_cache(maxsize=None)
+def _box_filter(variant: str | None = None) -> mi.ReconstructionFilter:
+    """Mitsuba's ``box`` reconstruction filter (one per variant)."""
+    return mi.load_dict({"type": "box"})
 
 
 @dataclass
@@ -333,6 +374,7 @@ class _Frame:
     candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
     candidates: mi.Int32  # the same on the device (every candidate traced)
     stats: FrameStats
+    denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
 
 
 def develop(sensor: mi.Sensor, block: mi.TensorXf) -> mi.TensorXf:
@@ -358,9 +400,13 @@ class HybridRenderer:
         self.lighting = DeferredLighting(scene)
         self.constants = shape_constants(scene)
         self.clock = StageClock()
-        self._frozen = dr.freeze(device_pass)
+        # one frozen device pass per PassStatic: Dr.Jit 1.5 was seen to replay a recording made
+        # for other static settings (a pass without the denoiser's guides for one with them)
+        self._frozen: dict[PassStatic, object] = {}
         self._gl_queries: list = []
         self._setups: dict = {}
+        self._denoisers: dict[str, Denoiser] = {}
+        self._accumulators: dict[bool, Accumulator] = {}
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
                aovs=(), state: FrameState | None = None, layers: bool = True) -> HybridResult:
@@ -376,8 +422,10 @@ class HybridRenderer:
             clock.lap("select")
             outputs = [self._pass(settings, frame, config, seed, sample, offset, clock)  # 1, 2, 4, 5 per pass
                        for sample, offset in enumerate(subpixel_offsets(frame.stats.spp, seed))]
-            image = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
+            composed = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
             clock.lap("develop")
+            image = self._post(settings, frame, state, composed, outputs)
+            clock.lap("post")
             frame.stats.times_ms["issue"] = clock.elapsed()
             dr.eval(image)
             dr.sync_thread()  # the frame's one synchronization
@@ -387,7 +435,7 @@ class HybridRenderer:
             frame.stats.host_ms = {k: clock.phases.get(k, 0.0) for k in HOST_PHASES}
         layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
-        return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images)
+        return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images, composed=composed)
 
     def _frame(self, settings: HybridSettings, sensor: mi.Sensor, aovs: tuple[str, ...], spp: int, layers: bool) -> _Frame:
         """The frame's fixed parts; what depends only on the settings is made once and kept."""
@@ -406,8 +454,13 @@ class HybridRenderer:
                layers: bool) -> tuple[PassStatic, list, np.ndarray, mi.Int32]:
         kinds = candidate_kinds(settings.candidates, self.scene)
         # the distinct effect sets the candidates deserve, and each object's (-1: not a candidate):
-        # fixed for the frame, so that one traced kernel serves every selection
-        active = [tuple(k for k in ks if k in settings.effects) for ks in kinds]
+        # fixed for the frame, so that one traced kernel serves every selection. An object that
+        # deserves every kind its material has is traced with all the integrator's effects: the
+        # lobes it lacks change nothing, and one effect set for all such objects saves the
+        # trace a BSDF evaluation per set at the first vertex
+        full = [set(ks) >= set(d) for ks, d in zip(kinds, default_kinds(self.scene))]
+        active = [settings.effects if ks and f else tuple(k for k in ks if k in settings.effects)
+                  for ks, f in zip(kinds, full)]
         configs = tuple(sorted({a for a in active if a}))
         film = sensor.film()
         static = PassStatic(
@@ -415,12 +468,35 @@ class HybridRenderer:
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),
             targets=tuple(dict.fromkeys(tuple(INPUTS) + aovs)), aovs=aovs, layers=layers,
-            has_alpha=mi.has_flag(film.flags(), mi.FilmFlags.Alpha), box_filter=film.rfilter().is_box_filter(),
+            has_alpha=mi.has_flag(film.flags(), mi.FilmFlags.Alpha),
+            box_filter=settings.denoise or film.rfilter().is_box_filter(),
             has_emitters=len(self.scene.emitters()) > 0,
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
-            n_objects=len(self.objects))
+            n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return static, kinds, config, mi.Int32(config)
+
+    def _post(self, settings: HybridSettings, frame: _Frame, state: FrameState, image: mi.TensorXf,
+              outputs: list[PassOutput]) -> mi.TensorXf:
+        """After the film: the frame blended with its reprojected history (``temporal.py``), then
+        denoised with the G-buffer's guides (``denoise.py``); alpha, if the film has it, is kept."""
+        if not (settings.temporal or settings.denoise):
+            state.history = None
+            return image
+        rgb = image if image.shape[2] == 3 else image[..., 0:3]
+        if settings.temporal:
+            accumulate = self._accumulators.setdefault(settings.freeze, Accumulator(settings.freeze))
+            rgb, state.history = accumulate(rgb, outputs[0].surface, frame.camera, state.history)
+            self.clock.mark("temporal", rgb, state.history.count)
+        else:
+            state.history = None
+        if settings.denoise:
+            sums = sum_tensors([o.guides for o in outputs])
+            guide = [sums[..., k:k + 3] / dr.maximum(sums[..., 6:7], 1e-12) for k in (0, 3)]
+            denoiser = self._denoisers.setdefault(settings.denoise_quality, Denoiser(settings.denoise_quality))
+            rgb = denoiser(rgb, Guides(albedo=guide[0], normal=guide[1]))
+            frame.denoiser = denoiser
+        return rgb if image.shape[2] == 3 else dr.concat([rgb, image[..., 3:]], axis=2)
 
     def _select(self, settings: HybridSettings, frame: _Frame, state: FrameState, seed: int) -> tuple[FramePlan | None, mi.Int32]:
         """Stage 3 on the host (§4): every visible candidate without a budget; with one, the plan
@@ -441,7 +517,7 @@ class HybridRenderer:
     def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:
         """Eq. 1–3 from a coverage, then the selection within the budget."""
         objects = object_relevance(cov, frame.kinds, list(self.objects.names), settings.effects, state.selected,
-                                   settings.importance, state.rays_per_pixel)
+                                   settings.importance, state.rays_per_pixel, self._errors(settings, state))
         return plan_frame(objects, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
@@ -460,10 +536,14 @@ class HybridRenderer:
         data = PassData(triangle_id=triangle_id, camera=mi.Float(np.r_[offset, camera.eye].astype(np.float32)),
                         seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants)
-        run = self._frozen if settings.freeze else device_pass
+        run = self._frozen.setdefault(frame.static, dr.freeze(device_pass)) if settings.freeze else device_pass
         output = run(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")
         return output
+
+    @staticmethod
+    def _errors(settings: HybridSettings, state: FrameState) -> dict[int, float] | None:
+        return state.error_per_pixel if settings.relevance == "error" else None
 
     def _coverage(self, frame: _Frame, counts: PassCounts) -> Coverage:
         return Coverage.of(counts.coverage, frame.camera.width, frame.camera.height, len(self.objects))
@@ -474,6 +554,8 @@ class HybridRenderer:
         stats = frame.stats
         clock.lap("readback")
         stats.times_ms.update(self.clock.frame_times())
+        if frame.denoiser is not None:
+            stats.times_ms["denoise"] = frame.denoiser.elapsed_ms()
         clock.lap("timing")
         if settings.primary == "raster":
             stats.times_ms["gl"] = sum(q.elapsed for q in self._gl_queries[:len(passes)]) * 1e-6
@@ -488,7 +570,8 @@ class HybridRenderer:
         stats.edge_refinements = sum(p.edge_refined for p in passes)
         cov = self._coverage(frame, passes[0])
         if plan is None:  # no budget: every visible candidate was traced; most relevant first
-            terms = visibility_terms(cov, frame.kinds, settings.effects, state.selected, settings.importance)
+            terms = visibility_terms(cov, frame.kinds, settings.effects, state.selected, settings.importance,
+                                     self._errors(settings, state))
             visible = np.nonzero(terms.candidate)[0]
             ordered = [int(k) for k in visible[np.argsort(-terms.relevance[visible], kind="stable")]]
             planned = set(ordered)
@@ -507,8 +590,10 @@ class HybridRenderer:
                                          stats.times_ms["trace"] / len(passes), expected=plan.rays)
             elif plan.objects:
                 state.cost_model.forget_slowest()
+        errors = sum(self._coverage(frame, p).error_sum for p in passes)
         for k in ordered:
             state.learn_rays(k, int(cov.pixels[k]) * len(passes), dict(zip(RAY_KINDS, map(int, per_object[k]))))
+            state.learn_error(k, int(cov.pixels[k]) * len(passes), float(errors[k]))
         stats.selected = tuple(self.objects.names[k] for k in ordered)
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)

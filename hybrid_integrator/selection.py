@@ -27,7 +27,7 @@ import mitsuba as mi
 from .errors import HybridError
 
 EFFECTS = ("shadow", "reflection", "refraction", "indirect")
-DEFAULT_EFFECTS = ("shadow", "reflection", "refraction")
+DEFAULT_EFFECTS = EFFECTS  # every term traced where selected: the traced pixels are unbiased (issue 11)
 
 
 def lobes(effects: tuple[str, ...]) -> int:

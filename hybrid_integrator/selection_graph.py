@@ -12,7 +12,8 @@ follow relevance pointers while they lead to a more relevant node; the node wher
 selected, ray traced, and moved to the next graph; its cost is taken from the time left and the
 walk starts again. When nothing fits, every remaining node moves to the next graph.
 
-**Greedy**: take nodes by decreasing R/C while they fit, unless the single most relevant node
+**Nested** (the default): the longest run of nodes by decreasing R/C that fits; a larger
+budget only adds nodes. **Greedy**: take nodes by decreasing R/C while they fit, unless the single most relevant node
 that fits is worth more. **Exact**: the 0/1 knapsack optimum
 (maximum total R with total C within the budget), solved as a mixed-integer linear program by
 SciPy's HiGHS (``scipy.optimize.milp``); meant for small N, as a yardstick.
@@ -26,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-SELECTORS = ("graph", "greedy", "exact")
+SELECTORS = ("nested", "greedy", "graph", "exact")
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,19 @@ class SelectionGraph:
         return chosen
 
 
+def select_nested(nodes: list[Node], budget: float) -> list[Node]:
+    """The longest run of nodes, by decreasing R/C, that fits: *nested* in the budget (what a
+    budget B selects, any budget above B selects too), so more budget never swaps a selection
+    for another; it leaves unused at most the cost of the first node that does not fit."""
+    chosen, time_left = [], float(budget)
+    for node in sorted(nodes, key=lambda n: -n.relevance / max(n.cost, 1e-12)):
+        if node.cost > time_left:
+            break
+        chosen.append(node)
+        time_left -= node.cost
+    return chosen
+
+
 def select_greedy(nodes: list[Node], budget: float) -> list[Node]:
     """Nodes by decreasing R/C while they fit, or the single most relevant node that fits if that
     alone is worth more (which guarantees at least half the optimum: ratio order alone can fill
@@ -119,6 +133,8 @@ def select(method: str, nodes: list[Node], budget: float, pointers: int = 4) -> 
     """Pick the nodes to ray trace within ``budget`` with ``method`` (one of ``SELECTORS``)."""
     if method == "graph":
         return SelectionGraph(list(nodes), pointers=pointers).select(budget)
+    if method == "nested":
+        return select_nested(nodes, budget)
     if method == "greedy":
         return select_greedy(nodes, budget)
     if method == "exact":

@@ -163,9 +163,12 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
         smooth = bsdf.flags() & int(mi.BSDFFlags.Smooth)
         for mask, lobe in zip(masks, lobes):
             active = within(mask, nee)
-            ctx_rest = mi.BSDFContext()
-            ctx_rest.type_mask = int(mi.BSDFFlags.All) & ~lobe.follow
-            v = bsdf.eval(ctx_rest, si, wo, active & ((smooth & ctx_rest.type_mask) != 0))
+            v = dr.zeros(mi.Color3f, dr.width(nee))
+            rest = int(mi.BSDFFlags.Smooth) & ~lobe.follow  # smooth lobes left to emitter sampling alone
+            if rest:
+                ctx_rest = mi.BSDFContext()
+                ctx_rest.type_mask = rest
+                v = bsdf.eval(ctx_rest, si, wo, active & ((smooth & rest) != 0))
             if lobe.follow:
                 ctx_follow = mi.BSDFContext()
                 ctx_follow.type_mask = lobe.follow

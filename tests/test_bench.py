@@ -26,8 +26,12 @@ def test_bench_report_has_every_field(tmp_path):
     (report,) = json.loads((tmp_path / "bench.json").read_text())
     assert set(FIELDS) <= set(report)
     names = [m["method"] for m in report["methods"]]
-    assert names == ["raster", "hybrid", "rt-baseline", "hybrid@0%", "hybrid@50%", "path@1spp", "path@2spp",
-                     "path@equal-time"]
+    assert names == ["raster", "hybrid", "rt-baseline", "hybrid@0%", "hybrid@50%", "hybrid, no denoiser",
+                     "hybrid, denoiser 'high'", "hybrid 2 spp", "hybrid 4 spp", "hybrid+history", "path@1spp",
+                     "path@2spp", "path@equal-time", "path@history-time", "path+denoiser@1spp",
+                     "path+denoiser@2spp", "path+denoiser@4spp"]
+    history = next(m for m in report["methods"] if m["method"] == "hybrid+history")
+    assert history["frames_accumulated"] == report["frames"] + 3
     for m in report["methods"]:
         assert set(m) == {f.name for f in fields(Measurement)}
         assert m["time_ms"] > 0 and 0 < m["flip"] < 1 and math.isfinite(m["rel_mse"]) and m["delta_e2000"] >= 0

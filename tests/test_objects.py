@@ -95,5 +95,5 @@ def test_frame_statistics_come_from_one_synchronization():
     t = frame.stats.times_ms
     assert all(t[k] >= 0 for k in t) and t["trace"] > 0 and t["lighting"] > 0
     assert t["total"] >= t["issue"] > 0
-    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "readback", "timing"}
+    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "readback", "timing"}
     assert frame.stats.host_ms["replay"] > 0

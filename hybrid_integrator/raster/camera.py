@@ -116,10 +116,11 @@ def resolve_sensor(scene: mi.Scene, sensor: int | mi.Sensor) -> mi.Sensor:
 
 
 def sensor_like(sensor: mi.Sensor, width: int, height: int, fov_axis: str = "x",
-                principal_point: tuple[float, float] = (0.0, 0.0)) -> mi.Sensor:
+                principal_point: tuple[float, float] = (0.0, 0.0), rfilter: str = "gaussian") -> mi.Sensor:
     """A ``perspective`` sensor at ``sensor``'s pose with the same horizontal field of view but
-    another film size, ``fov_axis`` convention or principal point offset, built by Mitsuba's own
-    plugin (for resolution sweeps and for checking the camera conventions)."""
+    another film size, ``fov_axis`` convention, principal point offset or reconstruction filter,
+    built by Mitsuba's own plugin (for resolution sweeps, for checking the camera conventions,
+    and for path tracing with a denoiser, which needs a ``box`` filter)."""
     params = mi.traverse(sensor)
     to_world = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     aspect = width / height
@@ -131,4 +132,4 @@ def sensor_like(sensor: mi.Sensor, width: int, height: int, fov_axis: str = "x",
         "type": "perspective", "to_world": to_world, "fov": float(np.degrees(2 * np.arctan(half))),
         "fov_axis": fov_axis, "near_clip": sensor.near_clip(), "far_clip": sensor.far_clip(),
         "principal_point_offset_x": float(principal_point[0]), "principal_point_offset_y": float(principal_point[1]),
-        "film": {"type": "hdrfilm", "width": int(width), "height": int(height)}})
+        "film": {"type": "hdrfilm", "width": int(width), "height": int(height), "rfilter": {"type": rfilter}}})

@@ -43,7 +43,7 @@ _capsule_pointer = ctypes.pythonapi.PyCapsule_GetPointer
 _capsule_pointer.restype, _capsule_pointer.argtypes = ctypes.c_void_p, [ctypes.py_object, ctypes.c_char_p]
 
 
-def _device_pointer(array) -> int:
+def device_pointer(array) -> int:
     """Device address of an evaluated Dr.Jit CUDA array (from its DLPack export)."""
     capsule = array.__dlpack__()  # alive while its tensor is read: its destructor frees the tensor
     tensor = _DLTensor.from_address(_capsule_pointer(capsule, b"dltensor"))
@@ -52,7 +52,7 @@ def _device_pointer(array) -> int:
     return int(tensor.data) + int(tensor.byte_offset)
 
 
-def _drjit_stream() -> ctypes.c_void_p:
+def drjit_stream() -> ctypes.c_void_p:
     """Dr.Jit's CUDA stream (drjit-core's ``jit_cuda_stream()``), so that the copy is ordered with
     the kernels that read it without a host synchronization; the legacy default stream (which
     waits for every other blocking stream) where the symbol cannot be found."""
@@ -74,7 +74,7 @@ class _Driver:
         self._check(self.lib.cuInit(0), "cuInit")
         self._check(self.lib.cuDevicePrimaryCtxRetain(ctypes.byref(self.context), 0), "cuDevicePrimaryCtxRetain")
         dr.eval(mi.UInt32(0))  # Dr.Jit's CUDA backend (and its stream) exist from here on
-        self.stream = _drjit_stream()
+        self.stream = drjit_stream()
 
     @staticmethod
     def _check(code: int, call: str) -> None:
@@ -115,7 +115,7 @@ class _SharedBuffer:
         dr.eval(out)
         pointer, size = ctypes.c_uint64(), ctypes.c_size_t()
         stream, call = self.driver.stream, self.driver.call_current
-        target = ctypes.c_uint64(_device_pointer(out))
+        target = ctypes.c_uint64(device_pointer(out))
         with self.driver.current():
             call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
             try:
@@ -167,3 +167,25 @@ class Readback:
         shared = self._buffers[(w, h)]
         fbo.read_into(shared.buffer, components=1, attachment=0, dtype="u4")
         return shared.copy(mi.UInt32, w * h)
+
+
+class StreamTimer:
+    """Device time of work issued on Dr.Jit's CUDA stream by another library (CUDA events: what
+    Dr.Jit's kernel history cannot see), read after the frame's synchronization."""
+
+    def __init__(self):
+        self.driver = _Driver()
+        self.events = [ctypes.c_void_p(), ctypes.c_void_p()]
+        for event in self.events:
+            self.driver.call("cuEventCreate", ctypes.byref(event), ctypes.c_uint(0))
+
+    def start(self) -> None:
+        self.driver.call("cuEventRecord", self.events[0], self.driver.stream)
+
+    def stop(self) -> None:
+        self.driver.call("cuEventRecord", self.events[1], self.driver.stream)
+
+    def elapsed_ms(self) -> float:
+        ms = ctypes.c_float()
+        self.driver.call("cuEventElapsedTime", ctypes.byref(ms), self.events[0], self.events[1])
+        return float(ms.value)

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The GPU measurements of issue 11 (docs/results/README.md): the time–FLIP plane of every bench
+# scene (hybrid budgets, spp, denoiser, history; path and path + denoiser), 1280×720, 20 frames.
+# On the device machine, from the repository root, with the bundle (../shared/tools/device-bundle.sh),
+# the shared scenes as .device/scenes.tar.xz, and pyoidn (trimmed to its CPU and CUDA devices)
+# unpacked in /tmp/oidn_site:
+#   source .device/prelude.sh; ln -sfn ../plugins hybrid_integrator/plugins; bash scripts/gpu_issue11.sh SCENE...
+S=/tmp/scn; R=$OUT/r; mkdir -p $R
+mkdir -p $S && tar -xJf .device/scenes.tar.xz -C $S
+export PYTHONPATH=/tmp/oidn_site:$PYTHONPATH
+D="-D resx=1280 -D resy=720 -D models_dir=$S/models -D sponza_dir=$S/sponza-dabrovic -D showcase_dir=$S/cbox -D dining_dir=$S/dining-room"
+python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --gt-spp 1024 --max-path-spp 64 $D \
+  $(for s in "$@"; do echo scenes/$s.xml; done) -o $R/bench > $R/bench.log 2>&1; echo "bench rc=$?"
+tar -czf $OUT/results.tgz -C $OUT r && rm -rf $R
