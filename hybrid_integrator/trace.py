@@ -93,9 +93,14 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     first = tuple(Lobes.of(e) for e in (first_effects if first_effects is not None else (effects,)))
     # the lobe set of each traced pixel (None: one set for all)
     config = dr.gather(mi.UInt32, first_config, pixel, active) if len(first) > 1 else None
-    # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane offset
+    # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane
+    # offset. The initial state is hashed from (pixel, pass seed) with TEA, as Mitsuba's samplers
+    # do: PCG32 states that differ by a small constant (pass 0, 1, 2, ...) give correlated
+    # sequences, whose noise then does not average out over passes or frames
     rng = mi.PCG32(n)
-    rng.seed(dr.gather(mi.UInt64, seed, 0), mi.UInt64(pixel))
+    s = dr.gather(mi.UInt64, seed, 0)
+    key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
+    rng.seed(mi.sample_tea_64(pixel, key), mi.UInt64(pixel))
     L, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
     dr.eval(L, rays)  # one kernel: the loop runs once for both
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
