@@ -123,6 +123,8 @@ class FrameState:
 
     #: per object, the error per traced pixel that tracing removed (heuristic.py, relevance="error")
     error_per_pixel: dict[int, float] = field(default_factory=dict)
+    #: per object, the learnt ambient irradiance E (lighting.learn_ambient), RGB
+    ambient: dict[int, np.ndarray] = field(default_factory=dict)
 
     def learn_error(self, index: int, pixels: int, error_sum: float, smoothing: float = 0.5) -> None:
         if pixels <= 0:

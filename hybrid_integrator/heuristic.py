@@ -51,7 +51,9 @@ from .errors import HybridError
 from .objects import scene_objects
 from .selection import EFFECTS as KINDS  # the ray kinds an object may deserve are the effects
 RELEVANCE = ("error", "area")
-BLOCKS = 5  # per-object sums of coverage_sums: pixels, rows, columns, depths, errors
+#: per-object sums of coverage_sums: pixels, rows, columns, depths, errors, then over traced
+#: pixels the traced − raster residual (R, G, B) and the albedo (R, G, B) (lighting.py)
+BLOCKS = 11
 PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
 
 
@@ -142,6 +144,8 @@ class Coverage:
     depth_sum: np.ndarray
     mean_depth: float  # over every hit pixel
     error_sum: np.ndarray
+    residual_sum: np.ndarray  # (3, n): Σ traced − raster over traced pixels
+    albedo_sum: np.ndarray  # (3, n): Σ albedo over the same pixels
 
     @property
     def any(self) -> bool:
@@ -152,10 +156,10 @@ class Coverage:
         """From the sums of :func:`coverage_sums` (read back here, after the frame)."""
         n = max(n_objects, 1)
         sums = np.array(sums, dtype=np.float64)[:BLOCKS * n].reshape(BLOCKS, n)[:, :n_objects]
-        pixels, row_sum, col_sum, depth_sum, error_sum = sums
+        pixels, row_sum, col_sum, depth_sum, error_sum = sums[:5]
         n_hits, total_depth = pixels.sum(), depth_sum.sum()
         return cls(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum,
-                   float(total_depth / n_hits) if n_hits else 0.0, error_sum)
+                   float(total_depth / n_hits) if n_hits else 0.0, error_sum, sums[5:8], sums[8:11])
 
 
 def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int,
@@ -175,15 +179,20 @@ def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, h
 
 
 def add_error(sums: mi.Float, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color3f, cheap: mi.Color3f,
-              n_objects: int) -> None:
-    """Add each traced pixel's ``|τ(exact) − τ(cheap)|`` (module docstring) to its object's error
-    sum in ``sums`` (:func:`coverage_sums`)."""
+              base: mi.Color3f, albedo: mi.Color3f, n_objects: int) -> None:
+    """Add each traced pixel's ``|τ(exact) − τ(cheap)|`` (module docstring; ``cheap``: the raster
+    layer as composed) to its object's error sum in ``sums`` (:func:`coverage_sums`), and its
+    residual ``exact − base`` (``base``: the raster layer without its learnt ambient term) and
+    albedo, per channel, to the sums that term is fitted from (``lighting.learn_ambient``)."""
     def tone(c):
         y = mi.luminance(c)
         return y / (1.0 + y)
 
     n = max(n_objects, 1)
     dr.scatter_reduce(dr.ReduceOp.Add, sums, dr.abs(tone(exact) - tone(cheap)), 4 * n + obj, traced)
+    for c in range(3):
+        dr.scatter_reduce(dr.ReduceOp.Add, sums, exact[c] - base[c], (5 + c) * n + obj, traced)
+        dr.scatter_reduce(dr.ReduceOp.Add, sums, albedo[c], (8 + c) * n + obj, traced)
 
 
 def coverage(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int) -> Coverage:

@@ -18,6 +18,17 @@ the light table per pixel, compiled once per scene. The lights are read from the
 
 The BRDF is Lambert (albedo) plus a normalized Blinn-Phong lobe (specular colour, exponent from
 the G-buffer's roughness), the classic deferred-shading model; emission comes from Mitsuba.
+
+**The learnt ambient term** (issue 11: the cheap model of indirect light). The layer above has no
+indirect light and no shadows, so where the ray tracer does not touch an object its pixels are
+too bright in shadow and too dark everywhere light arrives indirectly. Every traced pixel measures
+the difference: its traced radiance minus its raster radiance. Per object, the frame sums that
+residual and the albedo over its traced pixels (``heuristic.add_error``), and after the frame
+``E_k = Σ residual / Σ albedo`` (per channel) is learnt across frames (:func:`learn_ambient`,
+``FrameState.ambient``): the object's mean ambient irradiance, net of its shadows. The raster
+layer then adds ``albedo × E_k`` (clamped at zero) on every pixel of object ``k``; an object never
+traced takes the mean ``E`` of the objects that were. It costs one gather per pixel, and it makes
+an untraced object's pixels as bright on average as its traced ones (``learn_ambient=false``: off).
 """
 from __future__ import annotations
 
@@ -157,6 +168,36 @@ def shade(gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, eye: mi.Point3f, lig
     if lights.count:
         color = _direct(lights.rows, lights.count, p, n, v, albedo, specular, shininess, color)
     return dr.select(hit, color, emission)
+
+
+def ambient_table(learnt: dict[int, np.ndarray], n_objects: int) -> np.ndarray:
+    """``E`` per object (``n × 3`` float32, row-major) for the device pass: the learnt value, or the
+    mean of the learnt ones for an object never traced (zeros when nothing is learnt yet)."""
+    table = np.zeros((max(n_objects, 1), 3), dtype=np.float32)
+    if learnt:
+        table[:] = np.mean(list(learnt.values()), axis=0)
+        for k, value in learnt.items():
+            if k < n_objects:
+                table[k] = value
+    return table
+
+
+def learn_ambient(learnt: dict[int, np.ndarray], index: int, residual: np.ndarray, albedo: np.ndarray,
+                  pixels: int, smoothing: float = 0.5) -> None:
+    """Update object ``index``'s ``E`` from one frame's sums over its traced pixels (module
+    docstring); channels whose albedo is (nearly) black keep the old value."""
+    seen = albedo > 1e-3 * max(pixels, 1)
+    if not seen.any():
+        return
+    old = learnt.get(index, np.zeros(3))
+    value = np.where(seen, residual / np.where(seen, albedo, 1.0), old)
+    learnt[index] = value if index not in learnt else smoothing * old + (1 - smoothing) * value
+
+
+def with_ambient(raster: mi.Color3f, albedo: mi.Color3f, obj: mi.UInt32, hit: mi.Bool, table: mi.Float) -> mi.Color3f:
+    """The raster layer plus ``albedo × E[obj]`` (:func:`ambient_table`), clamped at zero."""
+    e = mi.Color3f(*(dr.gather(mi.Float, table, obj * 3 + c, hit) for c in range(3)))
+    return dr.select(hit, dr.maximum(raster + albedo * e, 0.0), raster)
 
 
 @dr.syntax

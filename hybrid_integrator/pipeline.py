@@ -41,7 +41,7 @@ from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
 from .heuristic import (BLOCKS, RELEVANCE, Coverage, add_error, candidate_kinds, coverage_sums, default_kinds,
                         object_relevance, visibility_terms)
-from .lighting import INPUTS, DeferredLighting, LightTable, shade
+from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
 from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
@@ -76,6 +76,7 @@ class HybridSettings:
     denoise: bool = True
     denoise_quality: str = "fast"
     temporal: bool = False
+    learn_ambient: bool = True
 
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
@@ -252,6 +253,7 @@ class PassData:
     tables: TriangleTables
     lights: LightTable
     constants: ShapeConstants
+    ambient: mi.Float  # per object, the learnt ambient irradiance E (3 floats; lighting.py)
 
 
 @dataclass
@@ -307,7 +309,9 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     targets = aov_values(scene, hits, static.targets, data.constants)
     if static.hide_emitters:
         targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
-    raster = shade(targets, hits.valid, eye, data.lights)
+    shaded = shade(targets, hits.valid, eye, data.lights)
+    albedo = mi.Color3f(*targets["albedo"])
+    raster = with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient)
     aovs = {k: targets[k] for k in static.aovs}
     clock.mark("lighting", raster, aovs)
     # 3. selection (§4): the selected objects' pixels whose material needs an effect; coverage (eq. 1)
@@ -322,7 +326,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
                                static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                n_objects=static.n_objects, first_effects=static.configs,
                                first_config=selection.config)
-    add_error(sums, hits.object, selection.traced, rt, raster, static.n_objects)  # what tracing changed
+    add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
@@ -374,6 +378,7 @@ class _Frame:
     candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
     candidates: mi.Int32  # the same on the device (every candidate traced)
     stats: FrameStats
+    ambient: mi.Float | None = None  # the learnt ambient table this frame shades with
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
 
 
@@ -417,6 +422,8 @@ class HybridRenderer:
             dr.kernel_history_clear()
             clock = _HostClock()
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
+            learnt = state.ambient if settings.learn_ambient else {}
+            frame.ambient = mi.Float(ambient_table(learnt, len(self.objects)).ravel())
             clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
             clock.lap("select")
@@ -535,7 +542,8 @@ class HybridRenderer:
         clock.lap("raster")
         data = PassData(triangle_id=triangle_id, camera=mi.Float(np.r_[offset, camera.eye].astype(np.float32)),
                         seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
-                        tables=self.raster.tables, lights=self.lighting.table, constants=self.constants)
+                        tables=self.raster.tables, lights=self.lighting.table, constants=self.constants,
+                        ambient=frame.ambient)
         run = self._frozen.setdefault(frame.static, dr.freeze(device_pass)) if settings.freeze else device_pass
         output = run(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")
@@ -590,10 +598,13 @@ class HybridRenderer:
                                          stats.times_ms["trace"] / len(passes), expected=plan.rays)
             elif plan.objects:
                 state.cost_model.forget_slowest()
-        errors = sum(self._coverage(frame, p).error_sum for p in passes)
+        covs = [self._coverage(frame, p) for p in passes]
+        errors, residual, albedo = (sum(getattr(c, name) for c in covs) for name in ("error_sum", "residual_sum", "albedo_sum"))
         for k in ordered:
             state.learn_rays(k, int(cov.pixels[k]) * len(passes), dict(zip(RAY_KINDS, map(int, per_object[k]))))
             state.learn_error(k, int(cov.pixels[k]) * len(passes), float(errors[k]))
+            if settings.learn_ambient:
+                learn_ambient(state.ambient, k, residual[:, k], albedo[:, k], int(cov.pixels[k]) * len(passes))
         stats.selected = tuple(self.objects.names[k] for k in ordered)
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)

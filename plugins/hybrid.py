@@ -18,6 +18,7 @@
         <boolean name="denoise" value="true"/>         <!-- Open Image Denoise, G-buffer guides -->
         <string name="denoise_quality" value="fast"/>  <!-- or "balanced", "high" -->
         <boolean name="temporal" value="false"/>       <!-- accumulate frames, reprojected -->
+        <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
     </integrator>
 
 Properties
@@ -60,6 +61,10 @@ Properties
                  buffer (``hybrid_integrator/temporal.py``): a still camera converges, a moving one
                  keeps up to 16 frames of history where the same surface is seen. The history is
                  kept by the integrator between ``render`` calls: give each call its own ``seed``.
+``learn_ambient`` add to the raster layer, per object, ``albedo × E`` with ``E`` the ambient
+                 irradiance learnt from that object's traced pixels in earlier frames (the cheap
+                 model of indirect light and shadowing where nothing is traced this frame;
+                 ``hybrid_integrator/lighting.py``).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the
