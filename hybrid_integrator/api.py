@@ -8,6 +8,7 @@ from .cache import scene_state
 from .environment import require_jit_rgb_variant
 from .errors import HybridError
 from .objects import scene_objects
+from .pipeline import HybridSettings
 from .primary import camera_rays, primary_hits, visibility_buffer
 from .raster.camera import RasterCamera, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
@@ -63,6 +64,9 @@ def _integrator(properties: dict):
         candidates = properties.pop("candidates")
         properties["candidates"] = ", ".join(name if kinds is None else f"{name}:{kinds if isinstance(kinds, str) else '|'.join(kinds)}"
                                              for name, kinds in candidates.items())
+    # the settings checked here first: raised inside Mitsuba's plugin loader, the clear HybridError
+    # would reach the user wrapped in a RuntimeError with Mitsuba's traceback text
+    HybridSettings.from_properties(properties)
     integrator = mi.load_dict({"type": "hybrid", **properties})
     assert isinstance(integrator, HybridIntegrator)
     return integrator

@@ -128,7 +128,7 @@ def _render(args) -> dict:
     import numpy as np
 
     import hybrid_integrator as hi
-    from hybrid_integrator.io import write_exr
+    from hybrid_integrator.io import atomic_path, write_exr, write_text
 
     scene = hi.load_scene(args.scene, **dict(args.defines))
     result = hi.render(scene, spp=args.spp, seed=args.seed, sensor=args.sensor, **_properties(args))
@@ -139,9 +139,10 @@ def _render(args) -> dict:
     channels["traced.Y"] = result.layers["traced"].astype(np.float32)
     exr = write_exr(args.output, channels)
     png = args.output.with_suffix(".png")
-    mi.util.write_bitmap(str(png), image[..., :3], write_async=False)
+    with atomic_path(png) as tmp:
+        mi.util.write_bitmap(str(tmp), image[..., :3], write_async=False)
     stats = result.stats.as_dict()
-    args.output.with_suffix(".json").write_text(json.dumps(stats, indent=2))
+    write_text(args.output.with_suffix(".json"), json.dumps(stats, indent=2))
     return {"exr": str(exr), "png": str(png), "stats": stats}
 
 
@@ -220,6 +221,12 @@ def main(argv: list[str] | None = None) -> int:
     except HybridError as exc:
         print(f"hybrid: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # an output that cannot be written, a scene path that is a directory, ...
+        print(f"hybrid: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "), file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("hybrid: interrupted (no output was left half-written)", file=sys.stderr)
+        return 130
     print(json.dumps(report, indent=2))
     return 0
 

@@ -7,6 +7,9 @@ file can be read without the scene.
 """
 from __future__ import annotations
 
+import contextlib
+import os
+
 from pathlib import Path
 
 import numpy as np
@@ -31,15 +34,35 @@ def gbuffer_channels(gb: GBuffer) -> dict[str, np.ndarray]:
     return channels
 
 
-def write_exr(path: str | Path, channels: dict[str, np.ndarray], attributes: dict | None = None) -> Path:
-    """Write ``channels`` (name → H×W array) as one multi-channel scanline EXR (ZIP compressed)."""
+@contextlib.contextmanager
+def atomic_path(path: str | Path):
+    """A temporary path beside ``path`` to write to; renamed onto ``path`` only when the block
+    ends without an exception (an interrupted render leaves no file that looks complete)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.partial{path.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """``Path.write_text``, atomically (:func:`atomic_path`)."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return Path(path)
+
+
+def write_exr(path: str | Path, channels: dict[str, np.ndarray], attributes: dict | None = None) -> Path:
+    """Write ``channels`` (name → H×W array) as one multi-channel scanline EXR (ZIP compressed),
+    atomically (:func:`atomic_path`)."""
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage, **(attributes or {})}
     data = {name: np.ascontiguousarray(a) for name, a in channels.items()}
-    with OpenEXR.File(header, data) as f:
-        f.write(str(path))
-    return path
+    with atomic_path(path) as tmp, OpenEXR.File(header, data) as f:
+        f.write(str(tmp))
+    return Path(path)
 
 
 def read_exr(path: str | Path) -> tuple[dict[str, np.ndarray], dict]:

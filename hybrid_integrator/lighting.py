@@ -155,14 +155,15 @@ class DeferredLighting:
                                 ambient=mi.Color3f(*(float(c) for c in self.lights.ambient)), count=self.lights.count)
 
 
-def shade(gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, eye: mi.Point3f, lights: LightTable) -> mi.Color3f:
-    """The raster layer from G-buffer targets (``INPUTS``, per pixel), the hit mask and the eye."""
+def shade(gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, view: mi.Vector3f, lights: LightTable) -> mi.Color3f:
+    """The raster layer from G-buffer targets (``INPUTS``, per pixel), the hit mask and the unit
+    direction towards the viewer (minus the camera ray's: a pinhole's or an orthographic camera's)."""
     p = mi.Point3f(*gbuffer["position"])
     n = dr.normalize(mi.Vector3f(*gbuffer["normal"]))
     albedo, specular, emission = (mi.Color3f(*gbuffer[k]) for k in ("albedo", "specular", "emission"))
     roughness = dr.maximum(gbuffer["optical"][3], 0.05)
     shininess = 2.0 / (roughness * roughness) - 2.0  # Blinn-Phong exponent of a GGX alpha
-    v = dr.normalize(eye - p)
+    v = view
     n = dr.select(dr.dot(n, v) < 0.0, -n, n)  # two-sided shading, as Mitsuba's BSDFs see the front side
     color = emission + lights.ambient * (albedo + specular)
     if lights.count:

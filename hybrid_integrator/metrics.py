@@ -40,11 +40,18 @@ def relative_mse(test, reference) -> float:
 
 
 def flip_map(test, reference) -> tuple[np.ndarray, float]:
-    """FLIP error map (H×W) and its mean, HDR mode."""
+    """FLIP error map (H×W) and its mean, HDR mode. A reference without a range of luminances (all
+    black, or one constant colour) has no exposure range for HDR-FLIP, whose library then aborts
+    the process: such a pair is compared with LDR-FLIP, on values clipped to [0, 1]."""
     import flip_evaluator
 
-    error, mean, _ = flip_evaluator.evaluate(np.maximum(_rgb(reference), 0), np.maximum(_rgb(test), 0), "HDR",
-                                             applyMagma=False)
+    ref, img = np.maximum(_rgb(reference), 0), np.maximum(_rgb(test), 0)
+    luminance = ref @ np.array([0.2126, 0.7152, 0.0722])
+    mode = "HDR" if float(np.ptp(luminance)) > 1e-6 * max(float(luminance.max()), 1e-30) and luminance.max() > 0 else "LDR"
+    if mode == "LDR":
+        ref, img = np.minimum(ref, 1.0), np.minimum(img, 1.0)
+    error, mean, _ = flip_evaluator.evaluate(np.ascontiguousarray(ref, dtype=np.float32),
+                                             np.ascontiguousarray(img, dtype=np.float32), mode, applyMagma=False)
     return np.asarray(error).reshape(_rgb(test).shape[:2]), float(mean)
 
 

@@ -25,6 +25,7 @@ wall-clock time, from the call to its statistics read back after its one synchro
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time
@@ -78,6 +79,16 @@ class HybridSettings:
     temporal: bool = False
     learn_ambient: bool = True
 
+    @classmethod
+    def from_properties(cls, values: dict) -> "HybridSettings":
+        """The settings of the integrator's properties (names as in ``plugins/hybrid.py``);
+        an unknown name or a bad value is a :class:`HybridError` naming it."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        for name in values:
+            if name not in names:
+                raise HybridError(f"the hybrid integrator has no property '{name}': it takes {sorted(names)}")
+        return cls(**values)
+
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
@@ -119,6 +130,7 @@ class FrameStats:
     edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
+    fallback: str = ""  # what the frame did instead of the hybrid pipeline, and why ("": nothing)
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
     predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
@@ -309,7 +321,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     targets = aov_values(scene, hits, static.targets, data.constants)
     if static.hide_emitters:
         targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
-    shaded = shade(targets, hits.valid, eye, data.lights)
+    shaded = shade(targets, hits.valid, -hits.ray.d, data.lights)
     albedo = mi.Color3f(*targets["albedo"])
     raster = with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient)
     aovs = {k: targets[k] for k in static.aovs}
@@ -330,6 +342,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     clock.mark("trace", rt, counts.per_object, sums)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
+    if static.max_depth == 0:  # as Mitsuba's path: no vertex at all, not even an emitter seen directly
+        color = dr.zeros(mi.Color3f, w * h)
     index = dr.arange(mi.UInt32, w * h)
     pixel = mi.Point2f(mi.Float(index % w), mi.Float(index // w))
     pos = pixel if static.box_filter else pixel + offset
@@ -338,7 +352,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     # neighbours, which it then keeps as detail): a box filter when denoising
     rfilter = _box_filter(mi.variant()) if static.guides else film.rfilter()
     block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 5 if static.has_alpha else 4, rfilter)
-    alpha = dr.select(hits.valid | static.background_alpha, 1.0, 0.0)
+    alpha = dr.select((hits.valid | static.background_alpha) & (static.max_depth != 0), 1.0, 0.0)
     block.put(pos, [color.x, color.y, color.z] + ([alpha] if static.has_alpha else []) + [mi.Float(1.0)])
     layers = None
     if static.layers:
@@ -418,6 +432,8 @@ class HybridRenderer:
         """One frame (paper Fig. 4). ``state`` carries the previous frame's selection, coverage and
         the cost model into this one (a fresh state: the first frame of a sequence)."""
         state = state if state is not None else FrameState()
+        if int(spp) < 0:
+            raise HybridError(f"spp={spp} is impossible: give a number of samples per pixel >= 1 (0: the scene's sampler's)")
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
             dr.kernel_history_clear()
             clock = _HostClock()
@@ -544,7 +560,11 @@ class HybridRenderer:
                         seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants,
                         ambient=frame.ambient)
-        run = self._frozen.setdefault(frame.static, dr.freeze(device_pass)) if settings.freeze else device_pass
+        # Mitsuba 3.9's orthographic sensor holds a Dr.Jit variable its traversal does not expose,
+        # which a frozen function cannot capture ("created before recording was started"): its
+        # frames run unfrozen
+        frozen = settings.freeze and not camera.orthographic
+        run = self._frozen.setdefault(frame.static, dr.freeze(device_pass)) if frozen else device_pass
         output = run(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")
         return output

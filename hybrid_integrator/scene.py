@@ -21,6 +21,8 @@ def load_scene(path: str | Path, batch: bool = True, **params) -> mi.Scene:
     (``resx=1280``, ``spp=4``, ...)."""
     require_jit_rgb_variant()
     path = Path(path)
+    if path.is_dir():
+        raise HybridError(f"{path} is a directory: give a scene file (.xml)")
     if not path.is_file():
         raise HybridError(f"scene file not found: {path}")
     try:

@@ -92,14 +92,7 @@ class HybridIntegrator(mi.SamplingIntegrator):
     def __init__(self, props: mi.Properties):
         require_jit_rgb_variant()
         super().__init__(props)
-        fields = {f.name: f for f in dataclasses.fields(HybridSettings)}
-        values = {}
-        for name in props.keys():
-            if name not in fields:
-                raise HybridError(f"the hybrid integrator has no property '{name}': it takes {sorted(fields)}")
-            value = props[name]
-            values[name] = None if name == "candidates" and value is None else value
-        self.settings = HybridSettings(**values)
+        self.settings = HybridSettings.from_properties({name: props[name] for name in props.keys()})
         self.last_result: HybridResult | None = None
         #: carried from frame to frame: last selection (S of eq. 3) and the calibrated cost model
         self.state = FrameState()
@@ -111,8 +104,11 @@ class HybridIntegrator(mi.SamplingIntegrator):
         (``hi.render`` calls this)."""
         from hybrid_integrator.api import renderer
 
-        self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed), aovs=aovs,
-                                                  state=self.state, layers=layers)
+        if not scene.shapes():  # nothing to rasterize or trace: what Mitsuba shows is the background
+            self.last_result = _background(scene, self.settings, sensor, seed, spp)
+        else:
+            self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed),
+                                                      aovs=aovs, state=self.state, layers=layers)
         return self.last_result
 
     def render(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,
@@ -133,6 +129,27 @@ class HybridIntegrator(mi.SamplingIntegrator):
     def to_string(self) -> str:
         fields = ", ".join(f"{k}={v!r}" for k, v in dataclasses.asdict(self.settings).items())
         return f"HybridIntegrator[{fields}]"
+
+
+def _background(scene: mi.Scene, settings: HybridSettings, sensor, seed: int, spp: int) -> HybridResult:
+    """A scene without shapes (none, or only infinite emitters): the frame is Mitsuba's ``path``
+    render of it (the environment, or black), recorded as a fallback in the frame's statistics."""
+    import time
+
+    from hybrid_integrator.pipeline import FrameStats
+    from hybrid_integrator.raster.camera import resolve_sensor
+
+    sensor = resolve_sensor(scene, sensor)
+    integrator = mi.load_dict({"type": "path", "max_depth": settings.max_depth, "hide_emitters": settings.hide_emitters})
+    start = time.perf_counter()
+    image = mi.render(scene, integrator=integrator, sensor=sensor, seed=seed, spp=spp)
+    dr.eval(image)
+    dr.sync_thread()
+    size = sensor.film().crop_size()
+    stats = FrameStats(width=int(size[0]), height=int(size[1]), spp=int(spp) or sensor.sampler().sample_count(),
+                       primary=settings.primary, fallback="the scene has no shapes: Mitsuba's path renders its background")
+    stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
+    return HybridResult(image=image, stats=stats)
 
 
 def register() -> None:

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import mitsuba as mi
+import numpy as np
 import pytest
 
 import hybrid_integrator as hi
@@ -85,8 +86,14 @@ def test_sensor_index_out_of_range():
 
 @pytest.mark.parametrize("lights", [{}, {"sky": {"type": "constant"}}], ids=["empty", "only an emitter"])
 def test_scene_without_shapes(lights):
-    """Nothing to draw or trace: a clear error, not a Dr.Jit abort on an empty frozen input."""
+    """Nothing to draw or trace: the frame is Mitsuba's own render of the background (black, or the
+    environment), recorded as a fallback; the raster stage alone says there is nothing to draw."""
     scene = mi.load_dict({"type": "scene", **lights,
                           "sensor": {"type": "perspective", "film": {"type": "hdrfilm", "width": 16, "height": 8}}})
+    result = hi.render(scene, spp=1)
+    path = mi.render(scene, integrator=mi.load_dict({"type": "path"}), spp=1)
+    assert np.allclose(np.array(result.image), np.array(path)) and np.isfinite(np.array(result.image)).all()
+    assert np.array(result.image).mean() == (1.0 if lights else 0.0)
+    assert "no shapes" in result.stats.fallback
     with pytest.raises(hi.UnsupportedSceneError, match="the scene has no shapes"):
-        hi.render(scene, spp=1)
+        hi.api.renderer(scene)

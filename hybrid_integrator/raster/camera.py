@@ -1,5 +1,5 @@
 """The Mitsuba sensor as an OpenGL projection, pixel-exact (paper §7: the geometry stage's
-perspective camera).
+perspective camera; Mitsuba's ``orthographic`` sensor too).
 
 Mitsuba maps a film sample ``s`` in [0,1]² (row 0 at the top) to a camera-space point with
 ``sample_to_camera(s + principal_point_offset)``; its inverse, ``camera_to_sample``, comes from
@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import UnsupportedSceneError
 
-SUPPORTED_SENSOR = "PerspectiveCamera"
+SUPPORTED_SENSORS = ("PerspectiveCamera", "OrthographicCamera")
 
 #: the last camera built for each sensor (by ``id``), with the parameters it was built from
 _CAMERAS: dict[int, tuple[tuple, list, "RasterCamera"]] = {}
@@ -43,17 +43,22 @@ class RasterCamera:
     eye: np.ndarray
     near_clip: float
     far_clip: float
+    #: an ``orthographic`` sensor: clip w is 1, so depth comes from the camera-space z row below
+    orthographic: bool = False
+    depth_row: np.ndarray | None = None  # world → camera-space z (a row of the inverse to_world)
 
     @classmethod
     def from_sensor(cls, sensor: mi.Sensor) -> "RasterCamera":
         """Build the camera of ``sensor``, or raise :class:`UnsupportedSceneError` for a sensor
-        type other than ``perspective`` or a film with a crop window. The last camera of each
-        sensor is kept and reused while its parameters are the same (a frame reads them once)."""
+        type other than ``perspective`` and ``orthographic`` or a film with a crop window. The
+        last camera of each sensor is kept and reused while its parameters are the same (a frame
+        reads them once)."""
         kind = sensor.class_name()
-        if kind != SUPPORTED_SENSOR:
+        if kind not in SUPPORTED_SENSORS:
             raise UnsupportedSceneError(
-                f"sensor type '{kind}' is not supported: the raster stage needs a 'perspective' "
-                "sensor (pinhole camera)")
+                f"sensor type '{kind}' is not supported: the raster stage needs a 'perspective' (pinhole) or "
+                "'orthographic' sensor, with one centre (or direction) of projection; a thin lens's depth of "
+                "field needs camera rays: render it with primary='raytrace'")
         film = sensor.film()
         size, crop_size, crop_offset = film.size(), film.crop_size(), film.crop_offset()
         if tuple(crop_size) != tuple(size) or tuple(crop_offset) != (0, 0):
@@ -61,7 +66,10 @@ class RasterCamera:
                 f"film crop window (offset {tuple(crop_offset)}, size {tuple(crop_size)} of "
                 f"{tuple(size)}) is not supported: render the full film")
         params = mi.traverse(sensor)
-        values = [params[k] for k in ("x_fov", "principal_point_offset_x", "principal_point_offset_y", "to_world")]
+        orthographic = kind == "OrthographicCamera"
+        names = ("to_world",) if orthographic else ("x_fov", "principal_point_offset_x", "principal_point_offset_y",
+                                                    "to_world")
+        values = [params[k] for k in names]
         near, far = sensor.near_clip(), sensor.far_clip()
         # the parameters' Dr.Jit variables: a change makes new ones, and holding the old ones (in
         # the cache) keeps their indices from being reused, so equal indices mean equal values,
@@ -70,16 +78,21 @@ class RasterCamera:
         cached = _CAMERAS.get(id(sensor))
         if cached is not None and cached[0] == key:
             return cached[2]
-        x_fov, ppx, ppy = (float(v[0]) for v in values[:3])
-        camera_to_world = transform_matrix(values[3])
-        camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
+        camera_to_world = transform_matrix(values[-1])
+        if orthographic:  # Mitsuba's orthographic sensor: its to_world scales the view volume
+            ppx = ppy = 0.0
+            camera_to_sample = transform_matrix(mi.orthographic_projection(size, crop_size, crop_offset, near, far))
+        else:
+            x_fov, ppx, ppy = (float(v[0]) for v in values[:3])
+            camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
         sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
                                   [0.0, 0.0, 0.0, 1.0]])
         world_to_clip = sample_to_ndc @ camera_to_sample @ np.linalg.inv(camera_to_world)
         camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
-                     eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far))
+                     eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far),
+                     orthographic=orthographic, depth_row=np.linalg.inv(camera_to_world)[2].copy())
         _CAMERAS[id(sensor)] = (key, values, camera)
         while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
             del _CAMERAS[next(iter(_CAMERAS))]
@@ -90,13 +103,18 @@ class RasterCamera:
         *reversed* depth: clip z is the near-clip distance, so that after the division by w (the
         camera-space depth) the depth buffer holds ``near / z`` (``context.DepthPrecision``), 1 on
         the near plane and → 0 at infinity; nothing in front of the near plane is drawn, as
-        Mitsuba's camera rays start on it."""
+        Mitsuba's camera rays start on it. An orthographic camera has w = 1: its depth is
+        ``(far − z) / (far − near)`` of the camera-space z, 1 on the near plane and 0 on the far
+        one."""
         ox, oy = offset
         shift = np.eye(4)
         shift[0, 3] = (1.0 - 2.0 * ox) / self.width
         shift[1, 3] = (1.0 - 2.0 * oy) / self.height
         clip = shift @ self.world_to_clip
-        clip[2] = (0.0, 0.0, 0.0, self.near_clip)
+        if self.orthographic:
+            clip[2] = (np.array([0.0, 0.0, 0.0, self.far_clip]) - self.depth_row) / (self.far_clip - self.near_clip)
+        else:
+            clip[2] = (0.0, 0.0, 0.0, self.near_clip)
         return clip
 
 
