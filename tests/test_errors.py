@@ -32,10 +32,15 @@ def test_unsupported_shape_type(tmp_path):
         hi.rasterize(scene)
 
 
-def test_orthographic_sensor():
-    scene = mi.load_dict({"type": "scene", "sensor": {"type": "orthographic"}, "s": {"type": "cube"}})
-    with pytest.raises(hi.UnsupportedSceneError, match="sensor type 'OrthographicCamera' is not supported"):
+def test_thin_lens_sensor_says_what_to_do():
+    """Orthographic sensors are rasterized (the stability catalog checks them against camera rays);
+    a thin lens has no single centre of projection: the error says to use camera rays."""
+    scene = mi.load_dict({"type": "scene", "s": {"type": "cube"},
+                          "sensor": {"type": "thinlens", "aperture_radius": 0.1, "focus_distance": 4}})
+    with pytest.raises(hi.UnsupportedSceneError, match="sensor type 'ThinLensCamera' is not supported.*primary='raytrace'"):
         hi.rasterize(scene)
+    gb = hi.rasterize(mi.load_dict({"type": "scene", "sensor": {"type": "orthographic"}, "s": {"type": "cube"}}))
+    assert gb.hit.any()
 
 
 def test_crop_window():
