@@ -34,8 +34,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import nnls
 
-from .heuristic import KINDS, ObjectRelevance
-from .selection_graph import Node, select
+from .heuristic import KINDS, Candidates, ObjectRelevance
+from .selection_graph import Node, select, select_rows
 
 
 @dataclass
@@ -62,6 +62,10 @@ class CostModel:
     def extra(self, rays: dict[str, float]) -> float:
         """Predicted milliseconds ``rays`` add to a trace call (without its launch cost)."""
         return self.predict(rays) - self.launch()
+
+    def extra_rows(self, rays: np.ndarray) -> np.ndarray:
+        """:meth:`extra` of each row of ``rays`` (rays by kind, KINDS order), at once."""
+        return self.margin * (rays @ np.array([self.rates[k] for k in KINDS]))
 
     def launch(self) -> float:
         """Predicted fixed cost of a trace call."""
@@ -108,73 +112,99 @@ class CostModel:
         self.margin = float(np.clip(np.quantile(ms / np.maximum(fitted, 1e-9), 0.9), 1.0, 4.0))
 
 
+def grown_table(table: np.ndarray, rows: int) -> np.ndarray:
+    """``table`` with at least ``rows`` rows, the new ones NaN (never learnt)."""
+    if len(table) >= rows:
+        return table
+    grown = np.full((rows,) + table.shape[1:], np.nan)
+    grown[:len(table)] = table
+    return grown
+
+
+def _learn(table: np.ndarray, index: np.ndarray, value: np.ndarray, smoothing: float) -> np.ndarray:
+    """Blend ``value`` into the rows ``index`` of ``table`` (a first value is taken as it is)."""
+    table = grown_table(table, int(index.max()) + 1 if len(index) else 0)
+    old = table[index]
+    table[index] = np.where(np.isfinite(old), smoothing * old + (1 - smoothing) * value, value)
+    return table
+
+
 @dataclass
 class FrameState:
     """What a frame hands to the next (§4.3): the objects selected (S of eq. 3), the cost model and
-    the learnt rays per pixel of each object."""
+    what was learnt per object where it was traced, as arrays indexed by object (NaN: never)."""
 
     selected: set[int] = field(default_factory=set)
     cost_model: CostModel = field(default_factory=CostModel)
-    rays_per_pixel: dict[int, dict[str, float]] = field(default_factory=dict)
+    #: per object, the secondary rays per traced pixel by kind (objects × KINDS)
+    rays_per_pixel: np.ndarray = field(default_factory=lambda: np.empty((0, len(KINDS))))
     #: the objects' coverage in the last frame (``heuristic.Coverage``): what the next frame plans from
     coverage: object | None = None
     #: the accumulated frames (``temporal.History``), with ``temporal`` on
     history: object | None = None
-
     #: per object, the error per traced pixel that tracing removed (heuristic.py, relevance="error")
-    error_per_pixel: dict[int, float] = field(default_factory=dict)
-    #: per object, the learnt ambient irradiance E (lighting.learn_ambient), RGB
-    ambient: dict[int, np.ndarray] = field(default_factory=dict)
+    error_per_pixel: np.ndarray = field(default_factory=lambda: np.empty(0))
+    #: per object, the learnt ambient irradiance E (lighting.learn_ambient), RGB (objects × 3)
+    ambient: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
 
-    def learn_error(self, index: int, pixels: int, error_sum: float, smoothing: float = 0.5) -> None:
-        if pixels <= 0:
-            return
-        value = error_sum / pixels
-        old = self.error_per_pixel.get(index)
-        self.error_per_pixel[index] = value if old is None else smoothing * old + (1 - smoothing) * value
-
-    def learn_rays(self, index: int, pixels: int, rays: dict[str, int], smoothing: float = 0.5) -> None:
-        if pixels <= 0:
-            return
-        old = self.rays_per_pixel.get(index, {})
-        self.rays_per_pixel[index] = {k: smoothing * old[k] + (1 - smoothing) * v / pixels if k in old else v / pixels
-                                      for k, v in rays.items()}
+    def learn(self, index: np.ndarray, pixels: np.ndarray, rays: np.ndarray, error_sums: np.ndarray,
+              smoothing: float = 0.5) -> None:
+        """One frame's traced objects ``index``: their traced pixels, rays by kind (rows, KINDS
+        order) and error sums, averaged into what was learnt before (``smoothing``: the weight of
+        the past)."""
+        seen = pixels > 0
+        index, pixels = index[seen], pixels[seen].astype(np.float64)
+        if len(index):
+            self.rays_per_pixel = _learn(self.rays_per_pixel, index, rays[seen] / pixels[:, None], smoothing)
+            self.error_per_pixel = _learn(self.error_per_pixel, index, error_sums[seen] / pixels, smoothing)
 
 
 @dataclass
 class FramePlan:
     """The selection of one frame: what is traced, against which budget."""
 
-    objects: list[ObjectRelevance]  # every visible candidate, most relevant first
-    traced: set[int]  # the objects traced (their pixels, in one trace call per pass)
+    candidates: Candidates  # every visible candidate (heuristic.candidates)
+    picked: np.ndarray  # rows of ``candidates`` traced (their pixels, in one trace call per pass)
     rays: dict[str, float]  # the secondary rays per kind they are expected to spawn, per pass
     pass_budget_ms: float  # the trace time allowed per sample pass (inf: unlimited)
 
-
-def _plan(order: list[ObjectRelevance], picked: set[int], budget: float) -> FramePlan:
-    rays: dict[str, float] = {}
-    for o in order:
-        if o.index in picked:
-            for kind, v in o.rays.items():
-                rays[kind] = rays.get(kind, 0.0) + v
-    return FramePlan(order, picked, rays, budget)
+    @property
+    def traced(self) -> set[int]:
+        """The object indices traced."""
+        return set(self.candidates.index[self.picked].tolist())
 
 
-def plan_frame(objects: list[ObjectRelevance], method: str, budget_ms: float, spp: int, model: CostModel,
-               pointers: int = 4) -> FramePlan:
-    """Select the objects to trace (``selection_graph.select``).
+def _plan(c: Candidates, picked: np.ndarray, budget: float) -> FramePlan:
+    picked = np.asarray(picked, dtype=np.int64)
+    return FramePlan(c, picked, c.rays_of(picked), budget)
+
+
+def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostModel, pointers: int = 4) -> FramePlan:
+    """Select the objects to trace among ``objects`` (``heuristic.candidates``, or a list of
+    ``ObjectRelevance``).
 
     Unlimited budget: every visible candidate. With a budget: the selector picks within the
     per-pass budget less the launch cost of the trace call, except while the cost model is not
     yet calibrated, when the 1, 2, then 4 most relevant objects are traced, whatever the budget
-    (probes that measure the machine)."""
-    order = sorted(objects, key=lambda o: -o.relevance)
+    (probes that measure the machine). ``nested`` and ``greedy`` run on the arrays; ``graph``
+    and ``exact`` (yardsticks) on one node per candidate (``selection_graph``)."""
+    c = objects if isinstance(objects, Candidates) else _as_candidates(objects)
     if budget_ms <= 0:
-        return _plan(order, {o.index for o in order}, float("inf"))
+        return _plan(c, np.arange(len(c)), float("inf"))
     pass_budget = budget_ms / max(spp, 1)
     if not model.calibrated:  # probes of 1, 2, 4 objects: different ray counts separate t0 from the rates
-        return _plan(order, {o.index for o in order[:2 ** len(model.history)]}, pass_budget)
+        return _plan(c, np.argsort(-c.relevance, kind="stable")[:2 ** len(model.history)], pass_budget)
     room = pass_budget - model.launch()
-    nodes = [Node(o.index, model.extra(o.rays), o.relevance) for o in order]
-    picked = {node.key for node in select(method, nodes, room, pointers)} if room > 0 else set()
-    return _plan(order, picked, pass_budget)
+    if room <= 0 or not len(c):
+        return _plan(c, [], pass_budget)
+    cost = model.extra_rows(c.rays)
+    if method in ("nested", "greedy"):
+        return _plan(c, select_rows(method, cost, c.relevance, room), pass_budget)
+    nodes = [Node(int(i), float(cost[i]), float(c.relevance[i])) for i in range(len(c))]
+    return _plan(c, [node.key for node in select(method, nodes, room, pointers)], pass_budget)
+
+
+def _as_candidates(objects: list[ObjectRelevance]) -> Candidates:
+    rays = np.array([[o.rays.get(k, 0.0) for k in KINDS] for o in objects]).reshape(-1, len(KINDS))
+    arrays = {name: np.array([getattr(o, name) for o in objects]) for name in ("index", "pixels", "visibility", "relevance")}
+    return Candidates(rays=rays, terms=None, **arrays)

@@ -213,22 +213,29 @@ class VisibilityTerms:
     candidate: np.ndarray  # bool: a visible object that deserves one of the integrator's effects
 
 
-def error_weights(n_objects: int, error_per_pixel: dict[int, float] | None) -> np.ndarray:
-    """E_k / Ē per object (module docstring); all ones without learnt errors (``relevance="area"``)."""
+def error_weights(n_objects: int, errors: np.ndarray | None) -> np.ndarray:
+    """E_k / Ē per object from the learnt errors per pixel (one per object, NaN: never traced;
+    module docstring); all ones without them (``relevance="area"``)."""
     weights = np.ones(n_objects)
-    if error_per_pixel:
-        known = {k: v for k, v in error_per_pixel.items() if k < n_objects}
-        mean = float(np.mean(list(known.values()))) if known else 0.0
+    if errors is not None and len(errors):
+        known = np.asarray(errors[:n_objects], dtype=np.float64)
+        seen = np.isfinite(known)
+        mean = float(known[seen].mean()) if seen.any() else 0.0
         if mean > 0:
-            for k, v in known.items():
-                weights[k] = v / mean
+            weights[:len(known)][seen] = known[seen] / mean
     return weights
 
 
-def visibility_terms(cov: Coverage, kinds: list[tuple[str, ...]], effects: tuple[str, ...], selected_last: set[int],
-                     importance: float, error_per_pixel: dict[int, float] | None = None) -> VisibilityTerms:
+def active_kinds(kinds: list[tuple[str, ...]], effects: tuple[str, ...]) -> np.ndarray:
+    """Per object and kind (``KINDS`` order), whether the object deserves that kind and the
+    integrator traces it: an (objects × kinds) bool array."""
+    return np.array([[kind in ks and kind in effects for kind in KINDS] for ks in kinds], dtype=bool).reshape(-1, len(KINDS))
+
+
+def visibility_terms(cov: Coverage, active: np.ndarray, selected_last: set[int], importance: float,
+                     errors: np.ndarray | None = None) -> VisibilityTerms:
     """A, P, D, V (eq. 1) and R (eq. 3, V weighted by :func:`error_weights`) of every object of a
-    coverage, vectorized."""
+    coverage, vectorized; ``active`` is :func:`active_kinds`."""
     w, h = cov.width, cov.height
     n = cov.pixels.astype(np.float64)
     seen = np.maximum(n, 1.0)
@@ -238,30 +245,72 @@ def visibility_terms(cov: Coverage, kinds: list[tuple[str, ...]], effects: tuple
     distance = np.maximum((cov.depth_sum / seen) / max(cov.mean_depth, 1e-30), 1e-6)
     visibility = area * centrality / distance
     bonus = np.zeros(len(n))
-    bonus[[k for k in selected_last if k < len(n)]] = importance
-    deserving = np.array([any(kind in effects for kind in ks) for ks in kinds], dtype=bool)
-    relevance = bonus + visibility * error_weights(len(n), error_per_pixel)
-    return VisibilityTerms(area, centrality, distance, visibility, relevance, deserving & (n > 0))
+    last = np.fromiter(selected_last, dtype=np.int64, count=len(selected_last))
+    bonus[last[last < len(n)]] = importance
+    relevance = bonus + visibility * error_weights(len(n), errors)
+    return VisibilityTerms(area, centrality, distance, visibility, relevance, active.any(axis=1) & (n > 0))
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """The visible candidates of one frame, eq. 1–3 as arrays (a row each, in object order): what
+    the selection reads, without a Python object per candidate (thousands of objects stay well
+    under a millisecond)."""
+
+    index: np.ndarray  # object indices
+    pixels: np.ndarray
+    visibility: np.ndarray  # V, eq. 1
+    relevance: np.ndarray  # R, eq. 3
+    rays: np.ndarray  # Q per kind (KINDS order): the secondary rays each is expected to spawn per pass
+    terms: VisibilityTerms  # A, P, D of every object
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    def rays_of(self, rows) -> dict[str, float]:
+        """The expected rays of the candidates ``rows`` (an index or mask), summed, by kind."""
+        total = self.rays[rows].reshape(-1, len(KINDS)).sum(axis=0)
+        return {kind: float(v) for kind, v in zip(KINDS, total) if v > 0}
+
+
+def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], importance: float,
+               rays_table: np.ndarray, errors: np.ndarray | None = None) -> Candidates:
+    """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`).
+    ``rays_table`` holds the learnt rays per pixel (objects × kinds, NaN rows: never traced,
+    which take the prior of their own kinds)."""
+    terms = visibility_terms(cov, active, selected_last, importance, errors)
+    index = np.nonzero(terms.candidate)[0]
+    prior = active[index] * np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
+    learnt = np.full((len(index), len(KINDS)), np.nan)
+    known = index < len(rays_table)
+    learnt[known] = rays_table[index[known]]
+    per_pixel = np.where(np.isfinite(learnt).any(axis=1, keepdims=True), np.nan_to_num(learnt), prior)
+    pixels = cov.pixels[index]
+    return Candidates(index=index, pixels=pixels, visibility=terms.visibility[index], relevance=terms.relevance[index],
+                      rays=pixels[:, None] * per_pixel, terms=terms)
 
 
 def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[str],
                      effects: tuple[str, ...], selected_last: set[int], importance: float,
                      rays_per_pixel: dict[int, dict[str, float]],
                      error_per_pixel: dict[int, float] | None = None) -> list[ObjectRelevance]:
-    """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`), with
-    the learnt errors where given. ``kinds`` are intersected with the integrator's ``effects``."""
+    """:func:`candidates` as one :class:`ObjectRelevance` per candidate, from learnt values given
+    as mappings (object → rays per pixel by kind; object → error per pixel): for reading the
+    terms of a few objects. ``kinds`` are intersected with the integrator's ``effects``."""
     if not cov.any:
         return []
-    terms = visibility_terms(cov, kinds, effects, selected_last, importance, error_per_pixel)
-    out = []
-    for k in np.nonzero(terms.candidate)[0]:
-        active = tuple(kind for kind in kinds[k] if kind in effects)
-        n = int(cov.pixels[k])
-        per_pixel = rays_per_pixel.get(k) or {kind: PRIOR_RAYS_PER_PIXEL[kind] for kind in active}
-        rays = {kind: float(n) * v for kind, v in per_pixel.items() if v > 0}
-        out.append(ObjectRelevance(index=int(k), name=names[k], kinds=active, pixels=n, area=float(terms.area[k]),
-                                   centrality=float(terms.centrality[k]), distance=float(terms.distance[k]),
-                                   visibility=float(terms.visibility[k]), rays=rays,
-                                   cost=float(terms.visibility[k]) * sum(rays.values()),
-                                   relevance=float(terms.relevance[k])))
-    return out
+    n = len(kinds)
+    table = np.full((n, len(KINDS)), np.nan)
+    for k, per_pixel in rays_per_pixel.items():
+        table[k] = [per_pixel.get(kind, 0.0) for kind in KINDS]
+    errors = None
+    if error_per_pixel:
+        errors = np.full(n, np.nan)
+        errors[list(error_per_pixel)] = list(error_per_pixel.values())
+    c = candidates(cov, active_kinds(kinds, effects), selected_last, importance, table, errors)
+    t = c.terms
+    return [ObjectRelevance(index=int(k), name=names[k], kinds=tuple(kind for kind in kinds[k] if kind in effects),
+                            pixels=int(c.pixels[i]), area=float(t.area[k]), centrality=float(t.centrality[k]),
+                            distance=float(t.distance[k]), visibility=float(c.visibility[i]), rays=c.rays_of(i),
+                            cost=float(c.visibility[i] * c.rays[i].sum()), relevance=float(c.relevance[i]))
+            for i, k in enumerate(c.index)]

@@ -171,28 +171,32 @@ def shade(gbuffer: dict[str, list[mi.Float]], hit: mi.Bool, view: mi.Vector3f, l
     return dr.select(hit, color, emission)
 
 
-def ambient_table(learnt: dict[int, np.ndarray], n_objects: int) -> np.ndarray:
-    """``E`` per object (``n × 3`` float32, row-major) for the device pass: the learnt value, or the
-    mean of the learnt ones for an object never traced (zeros when nothing is learnt yet)."""
+def ambient_table(learnt: np.ndarray, n_objects: int) -> np.ndarray:
+    """``E`` per object (``n × 3`` float32, row-major) for the device pass, from the learnt rows
+    (objects × 3, NaN: never traced): the learnt value, or the mean of the learnt ones for an
+    object never traced (zeros when nothing is learnt yet)."""
     table = np.zeros((max(n_objects, 1), 3), dtype=np.float32)
-    if learnt:
-        table[:] = np.mean(list(learnt.values()), axis=0)
-        for k, value in learnt.items():
-            if k < n_objects:
-                table[k] = value
+    known = np.isfinite(learnt[:n_objects]).all(axis=1) if len(learnt) else np.zeros(0, dtype=bool)
+    if known.any():
+        table[:] = learnt[:n_objects][known].mean(axis=0)
+        table[:len(known)][known] = learnt[:n_objects][known]
     return table
 
 
-def learn_ambient(learnt: dict[int, np.ndarray], index: int, residual: np.ndarray, albedo: np.ndarray,
-                  pixels: int, smoothing: float = 0.5) -> None:
-    """Update object ``index``'s ``E`` from one frame's sums over its traced pixels (module
-    docstring); channels whose albedo is (nearly) black keep the old value."""
-    seen = albedo > 1e-3 * max(pixels, 1)
-    if not seen.any():
-        return
-    old = learnt.get(index, np.zeros(3))
-    value = np.where(seen, residual / np.where(seen, albedo, 1.0), old)
-    learnt[index] = value if index not in learnt else smoothing * old + (1 - smoothing) * value
+def learn_ambient(learnt: np.ndarray, index: np.ndarray, residual: np.ndarray, albedo: np.ndarray,
+                  pixels: np.ndarray, smoothing: float = 0.5) -> np.ndarray:
+    """The learnt ``E`` (objects × 3, NaN: never) updated from one frame's sums over the traced
+    pixels of objects ``index`` (rows of ``residual`` and ``albedo``; module docstring);
+    channels whose albedo is (nearly) black keep the old value. Returns the new table."""
+    from .budget import grown_table
+
+    table = grown_table(learnt, int(index.max()) + 1 if len(index) else 0).copy()
+    seen = albedo > 1e-3 * np.maximum(pixels, 1)[:, None]
+    old = table[index]
+    value = np.where(seen, residual / np.where(seen, albedo, 1.0), np.nan_to_num(old))
+    blended = np.where(np.isfinite(old), smoothing * old + (1 - smoothing) * value, value)
+    table[index] = np.where(seen.any(axis=1, keepdims=True), blended, old)
+    return table
 
 
 def with_ambient(raster: mi.Color3f, albedo: mi.Color3f, obj: mi.UInt32, hit: mi.Bool, table: mi.Float) -> mi.Color3f:

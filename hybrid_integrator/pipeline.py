@@ -40,8 +40,8 @@ from .budget import FramePlan, FrameState, plan_frame
 from .compose import compose
 from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
-from .heuristic import (BLOCKS, RELEVANCE, Coverage, add_error, candidate_kinds, coverage_sums, default_kinds,
-                        object_relevance, visibility_terms)
+from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, candidate_kinds, candidates,
+                        coverage_sums, default_kinds, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
 from .primary import camera_rays, primary_hits, traced_hits
@@ -388,7 +388,7 @@ class _Frame:
     sensor: mi.Sensor
     camera: RasterCamera
     static: PassStatic
-    kinds: list[tuple[str, ...]]  # per object
+    active: np.ndarray  # per object and kind, whether it is traced when selected (heuristic.active_kinds)
     candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
     candidates: mi.Int32  # the same on the device (every candidate traced)
     stats: FrameStats
@@ -438,7 +438,7 @@ class HybridRenderer:
             dr.kernel_history_clear()
             clock = _HostClock()
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
-            learnt = state.ambient if settings.learn_ambient else {}
+            learnt = state.ambient if settings.learn_ambient else state.ambient[:0]
             frame.ambient = mi.Float(ambient_table(learnt, len(self.objects)).ravel())
             clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
@@ -466,12 +466,12 @@ class HybridRenderer:
         key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
         if key not in self._setups:
             self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
-        static, kinds, candidate_config, candidates = self._setups[key]
+        static, active, candidate_config, every = self._setups[key]
         stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
-        return _Frame(sensor=sensor, camera=camera, static=static, kinds=kinds, stats=stats,
-                      candidate_config=candidate_config, candidates=candidates)
+        return _Frame(sensor=sensor, camera=camera, static=static, active=active, stats=stats,
+                      candidate_config=candidate_config, candidates=every)
 
     def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
                layers: bool) -> tuple[PassStatic, list, np.ndarray, mi.Int32]:
@@ -497,7 +497,7 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
-        return static, kinds, config, mi.Int32(config)
+        return static, active_kinds(kinds, settings.effects), config, mi.Int32(config)
 
     def _post(self, settings: HybridSettings, frame: _Frame, state: FrameState, image: mi.TensorXf,
               outputs: list[PassOutput]) -> mi.TensorXf:
@@ -534,14 +534,16 @@ class HybridRenderer:
             cov = self._coverage(frame, PassCounts.read(probe, len(self.objects)))
             self.clock.frame_times()  # not this frame's work
         plan = self._plan(settings, frame, state, cov)
-        traced = np.array([k in plan.traced for k in range(len(self.objects))])
-        return plan, mi.Int32(np.where(traced, frame.candidate_config, -1).astype(np.int32))
+        config = np.full(len(self.objects), -1, dtype=np.int32)
+        traced = plan.candidates.index[plan.picked]
+        config[traced] = frame.candidate_config[traced]
+        return plan, mi.Int32(config)
 
     def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:
         """Eq. 1–3 from a coverage, then the selection within the budget."""
-        objects = object_relevance(cov, frame.kinds, list(self.objects.names), settings.effects, state.selected,
-                                   settings.importance, state.rays_per_pixel, self._errors(settings, state))
-        return plan_frame(objects, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
+        c = candidates(cov, frame.active, state.selected, settings.importance, state.rays_per_pixel,
+                       self._errors(settings, state))
+        return plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
               clock: "_HostClock | None" = None) -> PassOutput:
@@ -570,7 +572,7 @@ class HybridRenderer:
         return output
 
     @staticmethod
-    def _errors(settings: HybridSettings, state: FrameState) -> dict[int, float] | None:
+    def _errors(settings: HybridSettings, state: FrameState) -> np.ndarray | None:
         return state.error_per_pixel if settings.relevance == "error" else None
 
     def _coverage(self, frame: _Frame, counts: PassCounts) -> Coverage:
@@ -598,34 +600,35 @@ class HybridRenderer:
         stats.edge_refinements = sum(p.edge_refined for p in passes)
         cov = self._coverage(frame, passes[0])
         if plan is None:  # no budget: every visible candidate was traced; most relevant first
-            terms = visibility_terms(cov, frame.kinds, settings.effects, state.selected, settings.importance,
-                                     self._errors(settings, state))
+            terms = visibility_terms(cov, frame.active, state.selected, settings.importance, self._errors(settings, state))
             visible = np.nonzero(terms.candidate)[0]
-            ordered = [int(k) for k in visible[np.argsort(-terms.relevance[visible], kind="stable")]]
-            planned = set(ordered)
+            ordered = visible[np.argsort(-terms.relevance[visible], kind="stable")]
+            planned = set(ordered.tolist())
             stats.candidates_visible = len(ordered)
         else:
-            traced = [o for o in plan.objects if o.index in plan.traced and cov.pixels[o.index] > 0]
-            ordered = [o.index for o in traced]
+            c = plan.candidates
+            picked = np.zeros(len(c), dtype=bool)
+            picked[plan.picked] = True
+            traced = picked & (cov.pixels[c.index] > 0)
+            ordered = c.index[traced][np.argsort(-c.relevance[traced], kind="stable")]
             planned = plan.traced
-            total = sum(o.relevance for o in plan.objects)
-            stats.candidates_visible = len(plan.objects)
-            stats.relevance_captured = float(sum(o.relevance for o in traced) / total) if total > 0 else 1.0
-            stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if plan.traced else 0.0
+            total = float(c.relevance.sum())
+            stats.candidates_visible = len(c)
+            stats.relevance_captured = float(c.relevance[traced].sum() / total) if total > 0 else 1.0
+            stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if planned else 0.0
             stats.predicted_rays = int(sum(plan.rays.values()) * len(passes))
-            if plan.traced:
+            if planned:
                 state.cost_model.observe(dict(zip(RAY_KINDS, per_object.sum(axis=0) / len(passes))),
                                          stats.times_ms["trace"] / len(passes), expected=plan.rays)
-            elif plan.objects:
+            elif len(c):
                 state.cost_model.forget_slowest()
         covs = [self._coverage(frame, p) for p in passes]
         errors, residual, albedo = (sum(getattr(c, name) for c in covs) for name in ("error_sum", "residual_sum", "albedo_sum"))
-        for k in ordered:
-            state.learn_rays(k, int(cov.pixels[k]) * len(passes), dict(zip(RAY_KINDS, map(int, per_object[k]))))
-            state.learn_error(k, int(cov.pixels[k]) * len(passes), float(errors[k]))
-            if settings.learn_ambient:
-                learn_ambient(state.ambient, k, residual[:, k], albedo[:, k], int(cov.pixels[k]) * len(passes))
-        stats.selected = tuple(self.objects.names[k] for k in ordered)
+        pixels = cov.pixels[ordered] * len(passes)
+        state.learn(ordered, pixels, per_object[ordered], errors[ordered])
+        if settings.learn_ambient:
+            state.ambient = learn_ambient(state.ambient, ordered, residual[:, ordered].T, albedo[:, ordered].T, pixels)
+        stats.selected = tuple(self.objects.names[k] for k in ordered.tolist())
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)
         state.coverage = cov

@@ -90,28 +90,20 @@ def select_nested(nodes: list[Node], budget: float) -> list[Node]:
     """The longest run of nodes, by decreasing R/C, that fits: *nested* in the budget (what a
     budget B selects, any budget above B selects too), so more budget never swaps a selection
     for another; it leaves unused at most the cost of the first node that does not fit."""
-    chosen, time_left = [], float(budget)
-    for node in sorted(nodes, key=lambda n: -n.relevance / max(n.cost, 1e-12)):
-        if node.cost > time_left:
-            break
-        chosen.append(node)
-        time_left -= node.cost
-    return chosen
+    return _rows_of("nested", nodes, budget)
 
 
 def select_greedy(nodes: list[Node], budget: float) -> list[Node]:
     """Nodes by decreasing R/C while they fit, or the single most relevant node that fits if that
     alone is worth more (which guarantees at least half the optimum: ratio order alone can fill
     the budget with small objects and leave out a large, relevant one)."""
-    chosen, time_left = [], float(budget)
-    for node in sorted(nodes, key=lambda n: -n.relevance / max(n.cost, 1e-12)):
-        if node.cost <= time_left:
-            chosen.append(node)
-            time_left -= node.cost
-    best = max((n for n in nodes if n.cost <= budget), key=lambda n: n.relevance, default=None)
-    if best is not None and best.relevance > sum(n.relevance for n in chosen):
-        return [best]
-    return chosen
+    return _rows_of("greedy", nodes, budget)
+
+
+def _rows_of(method: str, nodes: list[Node], budget: float) -> list[Node]:
+    cost = np.array([n.cost for n in nodes], dtype=np.float64)
+    relevance = np.array([n.relevance for n in nodes], dtype=np.float64)
+    return [nodes[int(i)] for i in select_rows(method, cost, relevance, budget)]
 
 
 def select_exact(nodes: list[Node], budget: float) -> list[Node]:
@@ -127,6 +119,26 @@ def select_exact(nodes: list[Node], budget: float) -> list[Node]:
     if result.x is None:
         return []
     return [n for n, x in zip(nodes, result.x) if x > 0.5]
+
+
+def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: float) -> np.ndarray:
+    """:func:`select_nested` or :func:`select_greedy` on arrays (a row per node, in any order):
+    the rows picked. Thousands of nodes take well under a millisecond."""
+    order = np.argsort(-relevance / np.maximum(cost, 1e-12), kind="stable")
+    spent = np.cumsum(cost[order])
+    if method == "nested":
+        return order[:int(np.searchsorted(spent, budget, side="right"))]
+    chosen, time_left = [], float(budget)
+    for row, c in zip(order.tolist(), cost[order].tolist()):
+        if c <= time_left:
+            chosen.append(row)
+            time_left -= c
+    fits = np.nonzero(cost <= budget)[0]
+    if len(fits):
+        best = int(fits[np.argmax(relevance[fits])])
+        if relevance[best] > relevance[chosen].sum():
+            return np.array([best])
+    return np.array(chosen, dtype=np.int64)
 
 
 def select(method: str, nodes: list[Node], budget: float, pointers: int = 4) -> list[Node]:

@@ -109,7 +109,7 @@ def test_more_budget_never_worsens_the_frame():
     state = FrameState()
     for seed in range(6):  # probes, then calibrated frames: the state a sequence would carry
         renderer(scene).render(integrator.settings, seed=seed, spp=1, state=state, layers=False)
-    assert state.error_per_pixel and max(state.error_per_pixel.values()) > 0
+    assert np.nanmax(state.error_per_pixel) > 0
     selected, errors = [], []
     for fraction in (0.0, 0.25, 0.5, 0.75, 1.0):
         settings = HybridSettings(budget_ms=max(fraction * trace_ms, 1e-6)) if fraction < 1 else HybridSettings()
@@ -130,7 +130,7 @@ def test_learnt_ambient_brings_untraced_pixels_closer():
     state = FrameState()
     for seed in range(3):
         renderer(scene).render(HybridSettings(), seed=seed, spp=1, state=state, layers=False)
-    assert state.ambient and all(np.isfinite(v).all() for v in state.ambient.values())
+    assert np.isfinite(state.ambient).all(axis=1).any()
     nothing = HybridSettings(candidates="", denoise=False)
     bare = renderer(scene).render(nothing, seed=9, spp=1, state=FrameState())
     learnt = renderer(scene).render(nothing, seed=9, spp=1, state=copy.deepcopy(state))
