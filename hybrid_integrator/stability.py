@@ -12,6 +12,11 @@ and names the outcome the hybrid must deliver, one of:
     ``bound`` of the pixels (the figure). Where the raster cannot resolve a pixel (sub-pixel
     geometry, silhouettes, proxies), the hybrid re-traces it with a camera ray (``primary.py``):
     this is what holds the figure up.
+``visibility``
+    the raster's visibility buffer against Mitsuba's ``ray_intersect_preliminary`` along the same
+    camera rays (``raster.agreement``): the fraction of pixels with the same object and triangle,
+    at least ``bound``. (Where shading differs for reasons of ray-tracing precision, this is what
+    the raster stage answers for.)
 ``flip``
     the hybrid (every term traced, 16 spp, no denoiser) against Mitsuba's ``path`` at 256 spp: the
     figure is its FLIP minus that of ``path`` at the same 16 spp, at most ``bound`` (the hybrid is
@@ -160,6 +165,15 @@ def run_case(case: Case) -> CaseResult:
             images = {"reference (camera rays)": b, "raster layer": hybrid.layers["raster"], "hybrid": a, "error": diff}
             return CaseResult(case, figure >= case.bound, figure, f"{figure:.4f} of the pixels agree",
                               time.perf_counter() - start, images)
+        if case.outcome == "visibility":
+            import hybrid_integrator as hi
+            from .raster.agreement import visibility_agreement
+
+            agreement = visibility_agreement(scene_obj, scene_obj.sensors()[0], hi.rasterize(scene_obj))
+            figure = agreement.shape_and_triangle
+            return CaseResult(case, figure >= case.bound, figure,
+                              f"{figure:.4f} same triangle, {agreement.hit_miss:.4f} same hit or miss",
+                              time.perf_counter() - start)
         if case.outcome == "flip":
             truth = np.array(mi.render(scene_obj, integrator=mi.load_dict(_path_dict(case)), spp=256, seed=1))[..., :3]
             hybrid = _hybrid(scene_obj, case, denoise=False)
@@ -335,10 +349,12 @@ def catalog() -> list[Case]:
              _basic({"over": {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([0, -1, 0]).rotate([1, 0, 0], -90)
                               .scale(2), "bsdf": diffuse((0.1, 0.8, 0.1))}}), "agree", 0.5,
              note="two surfaces at one depth: raster and ray tracer may pick different ones; both are 'right'"))
-    for offset, bound in ((1e6, 0.75), (1e7, 0.4)):
-        add(Case(f"scene and camera offset by {offset:.0e}", "raster", _offset_scene(offset), "agree", bound,
-                 note="known failure: the GL pass transforms float32 world positions, which lose the "
-                      "camera-relative precision the ray tracer keeps (fix: relative-to-eye vertices)"))
+    for offset, bound in ((1e6, 0.99), (1e7, 0.85)):
+        add(Case(f"scene and camera offset by {offset:.0e}", "raster", _offset_scene(offset), "visibility", bound,
+                 note="vertices drawn relative to the eye (raster/shaders/visibility.vert): at 1e6 the same "
+                      "triangle on 99.8 % of the pixels (96.5 % in absolute coordinates); at 1e7 float32 "
+                      "positions quantize the scene itself (1 unit), and the shading points of both "
+                      "methods differ by a float32 step, which shadow rays amplify (images agree on 82 %)"))
     add(Case("tiny scene (1e-4 units)", "raster", _offset_scene(0.0, 1e-4), "agree", 0.98))
     add(Case("depth range 1e-3 … 1e5", "raster",
              lambda: scene({"near": _sphere(0.002, (0.0, 0.0, 3.99)), "far": _sphere(2e4, (0, 0, -9e4)), "floor": floor()},

@@ -93,12 +93,16 @@ def main() -> int:
               "with Mitsuba's camera rays pixel for pixel. Where the raster cannot resolve a pixel (sub-pixel spheres, "
               "wires, silhouettes, analytic proxies), the hybrid re-traces that pixel with a camera ray, which is why "
               "even 0.1-pixel geometry agrees.",
-              "- **Raster loses** far from the origin: at 1e6 and 1e7 units the GL pass transforms float32 world positions "
-              "and loses the precision that the ray tracer keeps. The fix is relative-to-eye vertices (not done). "
+              "- **Far from the origin** the raster draws vertices relative to the eye, so at 1e6 units it finds the "
+              "same triangle as the ray tracer on 99.8 % of the pixels (96.5 % when it drew absolute float32 "
+              "positions). At 1e7, float32 positions quantize the scene itself to whole units, and both methods "
+              "shade from points a float32 step apart, which shadow rays amplify: neither is reliable there. "
               "Coplanar surfaces (z-fighting) are resolved differently by the two; both answers are valid.",
-              "- **Not supported, with a clear error**: orthographic and thin-lens sensors, crop windows, instances, "
-              "non-finite vertices. An orthographic raster would be easy and is the next step. A thin lens needs "
-              "camera rays, since a raster has one centre of projection.",
+              "- **Orthographic sensors** are rasterized (depth from camera-space z) and agree on every pixel; their "
+              "frames run unfrozen, since Mitsuba 3.9's orthographic sensor holds a variable that a frozen "
+              "function cannot capture.",
+              "- **Not supported, with a clear error**: thin-lens sensors (a raster has one centre of projection: "
+              "the error says to use `primary='raytrace'`), crop windows, instances, non-finite vertices.",
               "- **Scenes without shapes** render Mitsuba's own background, recorded in `FrameStats.fallback`.",
               "- **Ray tracing from the G-buffer** is Mitsuba's `path` estimator. Its FLIP stays within 0.01 of "
               "`path`'s at the same spp for every emitter type, every BSDF tried and max_depth 0/1/2/−1.",

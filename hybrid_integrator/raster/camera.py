@@ -117,6 +117,17 @@ class RasterCamera:
             clip[2] = (0.0, 0.0, 0.0, self.near_clip)
         return clip
 
+    def relative_clip(self, offset: tuple[float, float] = (0.5, 0.5)) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`clip_matrix` for positions relative to the eye's float32 position ``o``: the
+        matrix ``M'`` with ``M' · (p − o, 1) = M · (p, 1)``, its last column ``M · (o, 1)`` made in
+        float64, and ``o`` (float32). The vertex shader's ``p − o`` is exact near the eye, so a
+        scene 1e6 units from the origin is drawn as precisely as one at it."""
+        origin = self.eye.astype(np.float32)
+        clip = self.clip_matrix(offset)
+        relative = clip.copy()
+        relative[:, 3] = clip @ np.r_[origin.astype(np.float64), 1.0]
+        return relative, origin
+
 
 def transform_matrix(transform) -> np.ndarray:
     """A Mitsuba transform (one-lane JIT or scalar) or a 4×4 array as a float64 numpy matrix."""

@@ -117,7 +117,9 @@ class Rasterizer:
             self.ctx.disable(moderngl.CULL_FACE)  # the mirrored projection flips the winding
             self.ctx.depth_func = ">"
             self._depth.zero_to_one(True)
-            self.program["world_to_clip"].write(camera.clip_matrix(offset).T.astype("f4").tobytes())
+            clip, origin = camera.relative_clip(offset)
+            self.program["world_to_clip"].write(clip.T.astype("f4").tobytes())
+            self.program["origin"].write(origin.tobytes())
             self._vao.render(moderngl.TRIANGLES)
             self._depth.zero_to_one(False)
         return fbo
