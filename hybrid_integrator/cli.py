@@ -68,7 +68,7 @@ def _parser() -> argparse.ArgumentParser:
 
     compare = sub.add_parser("compare", help="hybrid vs pure ray tracing vs ground truth: time and error table")
     compare.add_argument("-o", "--output", type=Path, default=Path("out/compare"), help="folder for images and report")
-    compare.add_argument("--spp", type=int, default=16)
+    compare.add_argument("--spp", type=int, default=1, help="samples per pixel of every method (default 1: one real-time frame)")
     compare.add_argument("--gt-spp", dest="gt_spp", type=int, default=512, help="samples per pixel of the ground truth")
     compare.add_argument("--seed", type=int, default=0)
     _integrator_options(compare)
