@@ -21,8 +21,9 @@ from .errors import (HybridError, RasterContextError, UnsupportedSceneError,  # 
 from .raster.gbuffer import AOV_CHANNELS, GBuffer  # noqa: E402
 from .raster.visibility import Rasterizer, VisibilityBuffer  # noqa: E402
 from .scene import load_scene  # noqa: E402
+from .frames import render_frames  # noqa: E402
 
-__all__ = ["load_scene", "rasterize", "render", "render_sequence", "camera_path", "register", "rasterizer", "forget",
+__all__ = ["load_scene", "rasterize", "render", "render_sequence", "render_frames", "camera_path", "register", "rasterizer", "forget",
            "scene_objects", "SceneObjects", "GBuffer", "VisibilityBuffer", "Rasterizer", "AOV_CHANNELS",
            "HybridError", "UnsupportedSceneError", "UnsupportedVariantError", "RasterContextError"]
 __version__ = "0.1.0"

@@ -5,6 +5,7 @@
     hybrid compare SCENE.xml [-o out/compare] [--spp N] [--gt-spp N]
     hybrid bench   SCENE.xml [SCENE.xml | procedural:TRIANGLES ...] [-o out/bench] [--frames N]
     hybrid bench   --scaling triangles --values 10000 100000 ... | --scaling resolution --values 640x360 ...
+    hybrid sequence SCENE.xml --camera-path '[[[0,0,4],[0,0,0]],[[1,0,3],[0,0,0]]]' --frames 60 -o DIR [--workers N]
 
 Every command takes ``-D name=value`` (the scene's ``$name`` parameters, as Mitsuba's own command
 line) and ``--variant``. Errors the package raises on purpose are printed as one line,
@@ -97,13 +98,45 @@ def _parser() -> argparse.ArgumentParser:
                        help="scene parameter ($NAME in the XML), e.g. -D sponza_dir=/data/sponza")
     bench.add_argument("--variant", default=DEFAULT_VARIANT, help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
 
-    for p in (gbuffer, render, compare):
+    sequence = sub.add_parser("sequence", help="a camera path to disk (EXR, PNG, stats JSON per frame, preview GIF), "
+                                               "resumable, in this process or on Ray workers (frames.py)")
+    sequence.add_argument("-o", "--output", type=Path, default=Path("out/sequence"), help="folder for the frames")
+    sequence.add_argument("--camera-path", dest="camera_path", required=True,
+                          help='key frames as JSON [[origin, target], ...] or [[origin, target, up], ...], or a .json file')
+    sequence.add_argument("--frames", type=int, default=60, help="frames along the path")
+    sequence.add_argument("--spp", type=int, default=1)
+    sequence.add_argument("--seed", type=int, default=0, help="frame k uses seed + k")
+    sequence.add_argument("--workers", type=int, default=1, help="Ray workers (1: this process, no Ray)")
+    sequence.add_argument("--ray", dest="ray_address", default=None, metavar="ADDRESS",
+                          help="a Ray cluster's address (default: start a local one)")
+    sequence.add_argument("--gpus-per-worker", dest="gpus_per_worker", type=float, default=0.0,
+                          help="GPUs per Ray worker (1 with cuda_ad_rgb; 0: CPU workers)")
+    _integrator_options(sequence)
+
+    for p in (gbuffer, render, compare, sequence):
         p.add_argument("scene", type=Path, help="Mitsuba scene XML")
         p.add_argument("--sensor", type=int, default=0, help="index of the scene's sensor")
         p.add_argument("-D", dest="defines", action="append", type=_define, default=[], metavar="NAME=VALUE",
                        help="scene parameter ($NAME in the XML), as in Mitsuba's own command line")
         p.add_argument("--variant", default=DEFAULT_VARIANT, help=f"Mitsuba variant (default {DEFAULT_VARIANT})")
     return parser
+
+
+def _sequence(args) -> dict:
+    import hybrid_integrator as hi
+    from hybrid_integrator.errors import HybridError
+    from hybrid_integrator.frames import render_frames
+
+    text = Path(args.camera_path).read_text() if args.camera_path.endswith(".json") else args.camera_path
+    try:
+        keys = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise HybridError(f"--camera-path is not JSON key frames [[origin, target], ...]: {exc}") from exc
+    if not args.scene.is_file():
+        raise HybridError(f"scene file not found: {args.scene}")
+    return render_frames(args.scene.resolve(), hi.camera_path(keys, args.frames), args.output, spp=args.spp,
+                         seed=args.seed, workers=args.workers, params=dict(args.defines), ray_address=args.ray_address,
+                         gpus_per_worker=args.gpus_per_worker, **_properties(args))
 
 
 def _gbuffer(args) -> dict:
@@ -217,7 +250,8 @@ def main(argv: list[str] | None = None) -> int:
         import hybrid_integrator as hi
 
         hi.register()
-        report = {"gbuffer": _gbuffer, "render": _render, "compare": _compare, "bench": _bench}[args.command](args)
+        report = {"gbuffer": _gbuffer, "render": _render, "compare": _compare, "bench": _bench,
+                  "sequence": _sequence}[args.command](args)
     except HybridError as exc:
         print(f"hybrid: error: {exc}", file=sys.stderr)
         return 2

@@ -14,5 +14,5 @@ if ! dpkg -s $SYSTEM_PACKAGES >/dev/null 2>&1; then
 fi
 
 [ -x .venv/bin/python ] || python3 -m venv .venv
-.venv/bin/python -m pip install -q --disable-pip-version-check -e '.[dev]'
+.venv/bin/python -m pip install -q --disable-pip-version-check -e '.[dev,ray]'
 .venv/bin/python -c "import hybrid_integrator, mitsuba; print('hybrid_integrator', hybrid_integrator.__version__, 'on mitsuba', mitsuba.__version__)"

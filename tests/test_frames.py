@@ -1,0 +1,133 @@
+"""Camera paths to disk on Ray workers (issue 13, ``hybrid_integrator/frames.py``): two local
+workers render the same frames as one process, each frame with its statistics, a preview, and a
+resumed run renders only what is missing. The comparisons turn the learnt ambient term off: each
+worker's chunk learns its own (frames.py), so untraced pixels may differ from one process's."""
+from __future__ import annotations
+
+import json
+
+import mitsuba as mi
+import numpy as np
+import pytest
+
+import hybrid_integrator as hi
+from hybrid_integrator.frames import chunks, render_frames
+from hybrid_integrator.io import read_exr
+from conftest import DEFAULT_SCENE
+
+SMALL = dict(resx=64, resy=48)
+
+
+def _cameras(n: int):
+    scene = hi.load_scene(DEFAULT_SCENE, **SMALL)
+    start = np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4)
+    origin, target = start[:3, 3], start[:3, 3] + start[:3, 2]
+    return hi.camera_path([(origin, target), (origin + [0.4, 0.2, 0.0], target)], n)
+
+
+def _fresh_process(cameras, out, seed: int) -> dict:
+    """The frames rendered by ``hybrid sequence`` in a process of their own (one worker, no Ray):
+    the single-process reference. (A test process that rendered other scenes before can render
+    a frame of a path differently: architecture.md, Known limits.)"""
+    import subprocess
+    import sys
+
+    from hybrid_integrator.raster.camera import transform_matrix
+
+    keys = json.dumps([transform_matrix(c).tolist() for c in cameras])
+    done = subprocess.run([sys.executable, "-c", (
+        "import json, sys, mitsuba as mi; mi.set_variant('llvm_ad_rgb'); import hybrid_integrator as hi; "
+        "print(json.dumps(hi.render_frames(sys.argv[1], json.loads(sys.argv[2]), sys.argv[3], seed=int(sys.argv[4]), "
+        "params=dict(resx=64, resy=48), learn_ambient=False)))"), str(DEFAULT_SCENE), keys, str(out), str(seed)],
+        capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_chunks_are_contiguous_and_cover_every_frame():
+    parts = chunks(list(range(10)), 3)
+    assert [p for c in parts for p in c] == list(range(10)) and [len(c) for c in parts] == [4, 3, 3]
+    assert chunks([0, 1], 4) == [[0], [1]]
+
+
+def test_two_ray_workers_render_what_one_process_renders(tmp_path):
+    ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'hybrid_integrator[ray]'")
+    cameras = _cameras(6)
+    one = _fresh_process(cameras, tmp_path / "one", seed=3)
+    try:
+        two = render_frames(DEFAULT_SCENE, cameras, tmp_path / "two", seed=3, workers=2, params=SMALL,
+                            learn_ambient=False)
+    finally:
+        ray.shutdown()
+    assert one["rendered"] == two["rendered"] == 6 and two["preview"] and (tmp_path / "two" / "preview.gif").is_file()
+    for k in range(6):
+        a, _ = read_exr(tmp_path / "one" / f"frame_{k:05d}.exr")
+        b, _ = read_exr(tmp_path / "two" / f"frame_{k:05d}.exr")
+        image_a, image_b = (np.stack([x[c] for c in "RGB"], -1) for x in (a, b))
+        assert np.abs(image_a - image_b).mean() <= 1e-3 * image_a.mean(), k
+        stats = json.loads((tmp_path / "two" / f"frame_{k:05d}.json").read_text())
+        assert stats["frame"] == k and stats["width"] == 64 and stats["secondary_rays"] > 0
+
+
+def test_a_resumed_run_renders_only_missing_frames(tmp_path):
+    cameras = _cameras(4)
+    render_frames(DEFAULT_SCENE, cameras, tmp_path, params=SMALL, preview=False)
+    for k in (1, 3):
+        (tmp_path / f"frame_{k:05d}.json").unlink()
+    again = render_frames(DEFAULT_SCENE, cameras, tmp_path, params=SMALL)
+    assert again["rendered"] == 2 and again["skipped"] == 2 and (tmp_path / "preview.gif").is_file()
+    with pytest.raises(hi.HybridError, match="workers=0"):
+        render_frames(DEFAULT_SCENE, cameras, tmp_path, params=SMALL, workers=0)
+
+
+def _worker_pids() -> list[int]:
+    """The processes of this machine's Ray actors that render frames (their title names the class)."""
+    from pathlib import Path
+
+    pids = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if proc.name.isdigit() and b"ray::FrameRenderer" in (proc / "cmdline").read_bytes():
+                pids.append(int(proc.name))
+        except OSError:
+            continue
+    return pids
+
+
+def test_a_killed_worker_loses_nothing(tmp_path):
+    """One worker process is killed while the path renders: Ray restarts it and retries its frames;
+    every frame is there and equals an undisturbed run's."""
+    ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'hybrid_integrator[ray]'")
+    import os
+    import signal
+    import threading
+    import time
+
+    cameras = _cameras(8)
+    calm = _fresh_process(cameras, tmp_path / "calm", seed=1)
+    killed = []
+
+    def kill_one():
+        deadline = time.time() + 120
+        while time.time() < deadline and not killed:
+            done = list((tmp_path / "hit").glob("frame_*.json"))
+            pids = _worker_pids()
+            if len(done) >= 2 and pids:
+                os.kill(pids[0], signal.SIGKILL)
+                killed.append(pids[0])
+            time.sleep(0.05)
+
+    killer = threading.Thread(target=kill_one)
+    killer.start()
+    try:
+        hit = render_frames(DEFAULT_SCENE, cameras, tmp_path / "hit", seed=1, workers=2, params=SMALL, preview=False,
+                            learn_ambient=False)
+    finally:
+        killer.join()
+        ray.shutdown()
+    assert killed and calm["rendered"] == hit["rendered"] == 8
+    for k in range(8):
+        a, _ = read_exr(tmp_path / "calm" / f"frame_{k:05d}.exr")
+        b, _ = read_exr(tmp_path / "hit" / f"frame_{k:05d}.exr")
+        image_a, image_b = (np.stack([x[c] for c in "RGB"], -1) for x in (a, b))
+        assert np.abs(image_a - image_b).mean() <= 1e-3 * image_a.mean(), k
