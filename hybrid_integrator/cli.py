@@ -157,26 +157,12 @@ def _gbuffer(args) -> dict:
 
 
 def _render(args) -> dict:
-    import mitsuba as mi
-    import numpy as np
-
     import hybrid_integrator as hi
-    from hybrid_integrator.io import atomic_path, write_exr, write_text
+    from hybrid_integrator.io import write_result
 
     scene = hi.load_scene(args.scene, **dict(args.defines))
     result = hi.render(scene, spp=args.spp, seed=args.seed, sensor=args.sensor, **_properties(args))
-    image = np.array(result.image, dtype=np.float32)
-    channels = {c: image[..., k] for k, c in enumerate("RGBA"[:image.shape[2]])}
-    for layer in ("raster", "rt"):
-        channels.update({f"{layer}.{c}": result.layers[layer][..., k] for k, c in enumerate("RGB")})
-    channels["traced.Y"] = result.layers["traced"].astype(np.float32)
-    exr = write_exr(args.output, channels)
-    png = args.output.with_suffix(".png")
-    with atomic_path(png) as tmp:
-        mi.util.write_bitmap(str(tmp), image[..., :3], write_async=False)
-    stats = result.stats.as_dict()
-    write_text(args.output.with_suffix(".json"), json.dumps(stats, indent=2))
-    return {"exr": str(exr), "png": str(png), "stats": stats}
+    return write_result(args.output, result)
 
 
 def _compare(args) -> dict:

@@ -67,18 +67,23 @@ def render_path(scene: mi.Scene, spp: int, max_depth: int, seed: int = 0) -> mi.
     return mi.render(scene, integrator=integrator, spp=spp, seed=seed)
 
 
-def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1) -> tuple[np.ndarray, list[float]]:
-    """Mitsuba ``path`` rendered ``repeats`` times after one warm-up render (which compiles), each
-    timed with the backend synchronized: (the image as (H, W, 3) float32, the times in ms)."""
+def _timed(render, repeats: int) -> tuple[np.ndarray, list[float]]:
+    """``render()`` run ``repeats`` times after one warm-up run (which compiles), each timed with
+    the backend synchronized: (its last image as (H, W, 3) float32, the times in ms)."""
     times, image = [], None
     for r in range(repeats + 1):
         start = time.perf_counter()
-        image = render_path(scene, spp, max_depth, seed)
+        image = render()
         dr.eval(image)
         dr.sync_thread()
         if r:
             times.append((time.perf_counter() - start) * 1e3)
     return np.array(image, dtype=np.float32)[..., :3], times
+
+
+def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1) -> tuple[np.ndarray, list[float]]:
+    """Mitsuba ``path`` rendered ``repeats`` times after one warm-up render (:func:`_timed`)."""
+    return _timed(lambda: render_path(scene, spp, max_depth, seed), repeats)
 
 
 def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1,
@@ -96,16 +101,12 @@ def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, re
     integrator = mi.load_dict({"type": "aov", "aovs": "albedo:albedo,nn:sh_normal",
                                "integrator": {"type": "path", "max_depth": int(max_depth)}})
     denoiser = Denoiser(quality)
-    times, image = [], None
-    for r in range(repeats + 1):
-        start = time.perf_counter()
+
+    def render():
         out = mi.render(scene, integrator=integrator, sensor=sensor, spp=spp, seed=seed)
-        image = denoiser(out[..., 0:3], Guides(albedo=out[..., 3:6], normal=out[..., 6:9]))
-        dr.eval(image)
-        dr.sync_thread()
-        if r:
-            times.append((time.perf_counter() - start) * 1e3)
-    return np.array(image, dtype=np.float32)[..., :3], times
+        return denoiser(out[..., 0:3], Guides(albedo=out[..., 3:6], normal=out[..., 6:9]))
+
+    return _timed(render, repeats)
 
 
 def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:

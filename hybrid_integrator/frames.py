@@ -21,7 +21,6 @@ Ray.
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -83,20 +82,10 @@ class FrameRenderer:
 
 
 def write_frame(out_dir: Path, index: int, result) -> None:
-    """The frame's EXR (image and layers), PNG and statistics JSON, each atomically, the JSON last."""
-    import mitsuba as mi
+    """The frame's EXR, PNG and statistics JSON (``io.write_result``), the JSON last."""
+    from .io import write_result
 
-    from .io import atomic_path, write_exr, write_text
-
-    image = np.array(result.image, dtype=np.float32)
-    channels = {c: image[..., k] for k, c in enumerate("RGBA"[:image.shape[2]])}
-    for layer in ("raster", "rt"):
-        channels.update({f"{layer}.{c}": result.layers[layer][..., k] for k, c in enumerate("RGB")})
-    base = out_dir / frame_name(index)
-    write_exr(base.with_suffix(".exr"), channels)
-    with atomic_path(base.with_suffix(".png")) as tmp:
-        mi.util.write_bitmap(str(tmp), image[..., :3], write_async=False)
-    write_text(base.with_suffix(".json"), json.dumps({"frame": index, **result.stats.as_dict()}, indent=2))
+    write_result(out_dir / f"{frame_name(index)}.exr", result, frame=index)
 
 
 def chunks(frames: list[int], workers: int) -> list[list[int]]:

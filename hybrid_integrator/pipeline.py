@@ -508,7 +508,9 @@ class HybridRenderer:
             return image
         rgb = image if image.shape[2] == 3 else image[..., 0:3]
         if settings.temporal:
-            accumulate = self._accumulators.setdefault(settings.freeze, Accumulator(settings.freeze))
+            if settings.freeze not in self._accumulators:
+                self._accumulators[settings.freeze] = Accumulator(settings.freeze)
+            accumulate = self._accumulators[settings.freeze]
             rgb, state.history = accumulate(rgb, outputs[0].surface, frame.camera, state.history)
             self.clock.mark("temporal", rgb, state.history.count)
         else:
@@ -516,7 +518,9 @@ class HybridRenderer:
         if settings.denoise:
             sums = sum_tensors([o.guides for o in outputs])
             guide = [sums[..., k:k + 3] / dr.maximum(sums[..., 6:7], 1e-12) for k in (0, 3)]
-            denoiser = self._denoisers.setdefault(settings.denoise_quality, Denoiser(settings.denoise_quality))
+            if settings.denoise_quality not in self._denoisers:
+                self._denoisers[settings.denoise_quality] = Denoiser(settings.denoise_quality)
+            denoiser = self._denoisers[settings.denoise_quality]
             rgb = denoiser(rgb, Guides(albedo=guide[0], normal=guide[1]))
             frame.denoiser = denoiser
         return rgb if image.shape[2] == 3 else dr.concat([rgb, image[..., 3:]], axis=2)
@@ -566,7 +570,9 @@ class HybridRenderer:
         # which a frozen function cannot capture ("created before recording was started"): its
         # frames run unfrozen
         frozen = settings.freeze and not camera.orthographic
-        run = self._frozen.setdefault(frame.static, dr.freeze(device_pass)) if frozen else device_pass
+        if frozen and frame.static not in self._frozen:  # made once: a new dr.freeze per pass would be waste
+            self._frozen[frame.static] = dr.freeze(device_pass)
+        run = self._frozen[frame.static] if frozen else device_pass
         output = run(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")
         return output
@@ -598,7 +604,8 @@ class HybridRenderer:
         stats.pixels_traced = sum(p.pixels for p in passes)
         stats.proxy_refinements = sum(p.proxy_refined for p in passes)
         stats.edge_refinements = sum(p.edge_refined for p in passes)
-        cov = self._coverage(frame, passes[0])
+        covs = [self._coverage(frame, p) for p in passes]
+        cov = covs[0]
         if plan is None:  # no budget: every visible candidate was traced; most relevant first
             terms = visibility_terms(cov, frame.active, state.selected, settings.importance, self._errors(settings, state))
             visible = np.nonzero(terms.candidate)[0]
@@ -622,7 +629,6 @@ class HybridRenderer:
                                          stats.times_ms["trace"] / len(passes), expected=plan.rays)
             elif len(c):
                 state.cost_model.forget_slowest()
-        covs = [self._coverage(frame, p) for p in passes]
         errors, residual, albedo = (sum(getattr(c, name) for c in covs) for name in ("error_sum", "residual_sum", "albedo_sum"))
         pixels = cov.pixels[ordered] * len(passes)
         state.learn(ordered, pixels, per_object[ordered], errors[ordered])
