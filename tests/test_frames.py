@@ -51,7 +51,7 @@ def test_chunks_are_contiguous_and_cover_every_frame():
 
 
 def test_two_ray_workers_render_what_one_process_renders(tmp_path):
-    ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'hybrid_integrator[ray]'")
+    import ray  # installed by scripts/install.sh (the extra .[ray])
     cameras = _cameras(6)
     one = _fresh_process(cameras, tmp_path / "one", seed=3)
     try:
@@ -97,7 +97,7 @@ def _worker_pids() -> list[int]:
 def test_a_killed_worker_loses_nothing(tmp_path):
     """One worker process is killed while the path renders: Ray restarts it and retries its frames;
     every frame is there and equals an undisturbed run's."""
-    ray = pytest.importorskip("ray", reason="Ray is an optional extra: pip install 'hybrid_integrator[ray]'")
+    import ray  # installed by scripts/install.sh (the extra .[ray])
     import os
     import signal
     import threading
