@@ -21,14 +21,55 @@ SYSTEM_PACKAGES = "libegl1 libgl1 libgl1-mesa-dri"
 REQUIRED_GL = 450
 
 
+#: ``EGL_NV_device_cuda``: the CUDA device number of an EGL device
+_EGL_CUDA_DEVICE_NV = 0x323A
+
+
+def egl_device_of_cuda(ordinal: int = 0) -> int | None:
+    """Index of the EGL device that is CUDA device ``ordinal`` (Dr.Jit's is 0), or None where EGL
+    cannot say (Mesa, no ``EGL_NV_device_cuda``).
+
+    EGL enumerates GPUs in its own order and ignores ``CUDA_VISIBLE_DEVICES`` (which Ray sets per
+    worker), so on a machine with several GPUs EGL device 0 may be another GPU than Dr.Jit's: the
+    raster stage would then draw on a GPU that its interop cannot read (CUDA–GL interop needs the
+    GL context on the CUDA device) and share that GPU with another worker."""
+    try:
+        egl = ctypes.CDLL("libEGL.so.1")
+    except OSError:
+        return None
+    egl.eglGetProcAddress.restype = ctypes.c_void_p
+    egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+    query, attribute = (egl.eglGetProcAddress(name) for name in (b"eglQueryDevicesEXT", b"eglQueryDeviceAttribEXT"))
+    if not query or not attribute:
+        return None
+    query = ctypes.CFUNCTYPE(ctypes.c_uint, ctypes.c_int, ctypes.POINTER(ctypes.c_void_p),
+                             ctypes.POINTER(ctypes.c_int))(query)
+    attribute = ctypes.CFUNCTYPE(ctypes.c_uint, ctypes.c_void_p, ctypes.c_int,
+                                 ctypes.POINTER(ctypes.c_ssize_t))(attribute)  # EGLAttrib is intptr_t
+    devices, count = (ctypes.c_void_p * 32)(), ctypes.c_int(0)
+    if not query(32, devices, ctypes.byref(count)):
+        return None
+    for index in range(count.value):
+        number = ctypes.c_ssize_t(-1)
+        if attribute(devices[index], _EGL_CUDA_DEVICE_NV, ctypes.byref(number)) and number.value == ordinal:
+            return index
+    return None
+
+
 @functools.lru_cache(maxsize=1)
 def gl_context() -> moderngl.Context:
-    """Return the process's headless OpenGL context, creating it on first use.
+    """Return the process's headless OpenGL context, creating it on first use: with a CUDA variant
+    on the EGL device of Dr.Jit's CUDA device (:func:`egl_device_of_cuda`), otherwise on EGL's
+    first device (``GLCONTEXT_DEVICE_INDEX`` overrides both).
 
     Raises :class:`RasterContextError`, naming the system packages to install, when EGL or an
     OpenGL driver is missing, or when the driver is older than OpenGL 3.3."""
+    import mitsuba as mi
+
+    device = egl_device_of_cuda() if mi.variant() and mi.variant().startswith("cuda") else None
     try:
-        ctx = moderngl.create_standalone_context(backend="egl", require=REQUIRED_GL)
+        ctx = moderngl.create_standalone_context(backend="egl", require=REQUIRED_GL,
+                                                 **({} if device is None else {"device_index": device}))
     except Exception as exc:  # moderngl/glcontext raise plain Exceptions with the EGL reason
         raise RasterContextError(
             f"cannot create a headless OpenGL {REQUIRED_GL // 100}.{REQUIRED_GL % 100 // 10} context "
