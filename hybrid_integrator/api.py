@@ -99,12 +99,20 @@ def camera_path(keyframes, frames: int) -> list[mi.ScalarTransform4f]:
 
 
 def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, sensor: int | mi.Sensor = 0,
-                    layers: bool = True, **properties) -> list:
+                    layers: bool = True, workers: int = 1, **properties) -> list:
     """Render a camera path: one frame per camera transform (``mi.ScalarTransform4f`` or 4×4
     matrix, e.g. from :func:`camera_path`), carrying the previous frame's selection (S of eq. 3)
     and the calibrated cost model from frame to frame (paper §4.3). Returns one ``HybridResult``
     per frame; each ``stats`` holds the selected objects, predicted and measured trace time,
-    ``budget_met`` and ``selection_changes``. The sensor's own transform is restored afterwards."""
+    ``budget_met`` and ``selection_changes``. The sensor's own transform is restored afterwards.
+
+    The frames stay in this process's memory; frames on several GPUs or CPU workers (Ray) are
+    written to disk by :func:`hybrid_integrator.render_frames` (``workers=N``), whose workers each
+    load the scene file themselves: ``workers`` > 1 here says so."""
+    if workers != 1:
+        raise HybridError(f"render_sequence(workers={workers}) renders in this process; for Ray workers, which load "
+                          "the scene file themselves and write the frames to disk, call "
+                          "hi.render_frames(scene_file, cameras, out_dir, workers=N) or `hybrid sequence --workers N`")
     integrator = _integrator(dict(properties))
     sensor = resolve_sensor(scene, sensor)
     params = mi.traverse(sensor)

@@ -212,19 +212,61 @@ def _child(spec: str, out: Path, options: list[str]) -> dict:
     return json.loads(out.read_text())
 
 
-def run(specs: list[str], out_dir: Path, options: list[str], command: str) -> list[dict]:
-    """Bench each scene in its own process (see module docstring); write ``out_dir/NAME.json``,
-    ``bench.json``, ``bench.md`` and ``NAME.png``."""
+@dataclass(frozen=True)
+class Workers:
+    """Where the bench's child jobs run: one after another here (``ray`` None), or as Ray tasks
+    (``ray``: "auto" starts a local Ray instance, else a cluster's address), each holding
+    ``gpus`` GPUs (Ray sets ``CUDA_VISIBLE_DEVICES``, which the child inherits) or one CPU."""
+
+    ray: str | None = None
+    gpus: float = 0.0
+
+
+def _children(jobs: list[tuple[str, Path, list[str]]], workers: Workers, desc: str) -> list[dict]:
+    """The reports of ``jobs`` (``(spec, json file, options)``, each one child process: ``_child``),
+    in order. On Ray, jobs run at once as far as the resources go (one per GPU with ``gpus`` = 1);
+    ground truths are shared through the disk cache (``compare.ground_truth``: on a cluster, point
+    ``$HYBRID_CACHE`` at a shared folder). Jobs that share a device disturb each other's timings:
+    give each a GPU, or one machine each."""
     from tqdm import tqdm
 
-    reports = []
-    for spec in tqdm(specs, desc="scenes", unit="scene"):
-        name = spec.replace(":", "_") if spec.startswith("procedural:") else Path(spec).stem
-        report = _child(spec, out_dir / f"{name}.json", options)
+    bar = tqdm(total=len(jobs), desc=desc, unit="job")
+    if workers.ray is None:
+        reports = []
+        for job in jobs:
+            reports.append(_child(*job))
+            bar.update()
+        bar.close()
+        return reports
+    try:
+        import ray
+    except ImportError as exc:
+        raise HybridError("bench --ray needs Ray: pip install 'hybrid_integrator[ray]'") from exc
+    if not ray.is_initialized():
+        ray.init(address=None if workers.ray == "auto" else workers.ray, include_dashboard=False,
+                 log_to_driver=False, ignore_reinit_error=True)
+    task = ray.remote(num_gpus=workers.gpus, num_cpus=0 if workers.gpus else 1, max_retries=2)(_child)
+    pending = {task.remote(*job): k for k, job in enumerate(jobs)}
+    reports: list[dict | None] = [None] * len(jobs)
+    waiting = list(pending)
+    while waiting:
+        done, waiting = ray.wait(waiting, num_returns=1)
+        reports[pending[done[0]]] = ray.get(done[0])
+        bar.update()
+    bar.close()
+    return reports
+
+
+def run(specs: list[str], out_dir: Path, options: list[str], command: str, workers: Workers = Workers()) -> list[dict]:
+    """Bench each scene in its own process (see module docstring; on Ray workers with
+    ``workers``); write ``out_dir/NAME.json``, ``bench.json``, ``bench.md`` and ``NAME.png``."""
+    names = [spec.replace(":", "_") if spec.startswith("procedural:") else Path(spec).stem for spec in specs]
+    reports = _children([(spec, out_dir / f"{name}.json", options) for spec, name in zip(specs, names)], workers,
+                        "scenes")
+    for name, report in zip(names, reports):
         report["command"] = command
         (out_dir / f"{name}.json").write_text(json.dumps(report, indent=2))
         chart(report, out_dir / f"{name}.png")
-        reports.append(report)
     (out_dir / "bench.json").write_text(json.dumps(reports, indent=2))
     (out_dir / "bench.md").write_text(tables(reports, [command]) + "\n")
     return reports
@@ -328,28 +370,29 @@ def chart(report: dict, path: Path) -> None:
     plt.close(fig)
 
 
-def scaling(axis: str, values: list[str], out: Path, options: list[str], command: str) -> list[dict]:
+def scaling(axis: str, values: list[str], out: Path, options: list[str], command: str,
+            workers: Workers = Workers()) -> list[dict]:
     """Hybrid (all candidates) and RT baseline time against triangle count (``procedural:N`` at the
     given resolution) or resolution (``WxH`` on ``procedural:1000000``), one child process per
-    point; writes ``out.json``, ``out.md``, ``out.png`` (:func:`scaling_report`)."""
+    point (on Ray workers with ``workers``); writes ``out.json``, ``out.md``, ``out.png``
+    (:func:`scaling_report`)."""
     import tempfile
-
-    from tqdm import tqdm
 
     pattern = r"[0-9]+" if axis == "triangles" else r"[0-9]+x[0-9]+"
     wrong = [v for v in values if not re.fullmatch(pattern, v.lower())]
     if wrong:
         raise HybridError(f"bench --scaling {axis}: {wrong} are not "
                           + ("triangle counts" if axis == "triangles" else "resolutions WxH (e.g. 1280x720)"))
-    reports = []
     with tempfile.TemporaryDirectory() as tmp:
-        for value in tqdm(values, desc=f"scaling by {axis}", unit="point"):
+        jobs = []
+        for value in values:
             if axis == "triangles":
                 spec, extra = f"procedural:{value}", []
             else:
                 w, h = value.lower().split("x")
                 spec, extra = "procedural:1000000", ["-D", f"resx={w}", "-D", f"resy={h}"]
-            reports.append(_child(spec, Path(tmp) / f"{value}.json", ["--scaling-point", *options, *extra]))
+            jobs.append((spec, Path(tmp) / f"{value}.json", ["--scaling-point", *options, *extra]))
+        reports = _children(jobs, workers, f"scaling by {axis}")
     return scaling_report(axis, reports, out, command)
 
 

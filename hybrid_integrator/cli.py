@@ -4,6 +4,7 @@
     hybrid render  SCENE.xml -o out.exr [--spp N] [--primary raytrace] [--effects ...]
     hybrid compare SCENE.xml [-o out/compare] [--spp N] [--gt-spp N]
     hybrid bench   SCENE.xml [SCENE.xml | procedural:TRIANGLES ...] [-o out/bench] [--frames N]
+    hybrid bench   SCENE.xml ... --ray [ADDRESS]       (scenes as Ray tasks, one GPU each with cuda_ad_rgb)
     hybrid bench   --scaling triangles --values 10000 100000 ... | --scaling resolution --values 640x360 ...
     hybrid sequence SCENE.xml --camera-path '[[[0,0,4],[0,0,0]],[[1,0,3],[0,0,0]]]' --frames 60 -o DIR [--workers N]
 
@@ -91,6 +92,11 @@ def _parser() -> argparse.ArgumentParser:
                        help="measure every image against a ground truth (off: times only, no ground truth rendered)")
     bench.add_argument("--scaling", choices=("triangles", "resolution"), help="time against triangles or resolution")
     bench.add_argument("--values", nargs="*", default=[], help="triangle counts, or WxH resolutions, for --scaling")
+    bench.add_argument("--ray", nargs="?", const="auto", default=None, metavar="ADDRESS",
+                       help="run the scenes (or scaling points) as Ray tasks: a local Ray instance, or a cluster's "
+                            "ADDRESS; ground truths are shared through the disk cache ($HYBRID_CACHE)")
+    bench.add_argument("--gpus-per-worker", dest="gpus_per_worker", type=float, default=None,
+                       help="GPUs per Ray task (default: 1 with a CUDA variant, else 0: one CPU each)")
     bench.add_argument("--single", type=Path, help=argparse.SUPPRESS)  # child process: one scene, JSON here
     bench.add_argument("--scaling-point", dest="scaling_point", action="store_true", help=argparse.SUPPRESS)
     _integrator_options(bench)
@@ -194,6 +200,8 @@ def _bench(args) -> dict:
     from hybrid_integrator.errors import HybridError
 
     command = "hybrid bench " + shlex.join(args.argv)
+    gpus = args.gpus_per_worker if args.gpus_per_worker is not None else float(args.variant.startswith("cuda"))
+    workers = bench.Workers(ray=args.ray, gpus=gpus)
     if args.single is not None:  # a child process: measure one scene
         if len(args.scenes) != 1:
             raise HybridError("bench --single takes one scene")
@@ -207,12 +215,12 @@ def _bench(args) -> dict:
     if args.scaling:
         if not args.values:
             raise HybridError("bench --scaling needs --values (triangle counts, or WxH resolutions)")
-        points = bench.scaling(args.scaling, args.values, args.output, _bench_options(args), command)
+        points = bench.scaling(args.scaling, args.values, args.output, _bench_options(args), command, workers)
         return {"json": str(args.output.with_suffix(".json")), "points": len(points)}
     if not args.scenes:
         raise HybridError("bench: give at least one scene (an XML, or procedural:TRIANGLES)")
     args.output.mkdir(parents=True, exist_ok=True)
-    reports = bench.run(args.scenes, args.output, _bench_options(args), command)
+    reports = bench.run(args.scenes, args.output, _bench_options(args), command, workers)
     print(bench.tables(reports, [command]), file=sys.stderr)
     return {"json": str(args.output / "bench.json"), "tables": str(args.output / "bench.md"),
             "charts": [str(args.output / f"{r['name']}.png") for r in reports]}

@@ -59,6 +59,18 @@ def test_bench_scaling_by_triangles(tmp_path):
     assert out.with_suffix(".png").is_file() and out.with_suffix(".md").is_file()
 
 
+def test_bench_jobs_on_ray_keep_their_order(tmp_path):
+    """``--ray``: the points run as Ray tasks (a local instance, one CPU each) and come back in the
+    order asked for, each measured."""
+    out = tmp_path / "triangles"
+    done = bench("--scaling", "triangles", "--values", "8000", "2000", "-D", "resx=48", "-D", "resy=32",
+                 "--frames", "1", "--ray", "-o", str(out))
+    assert done.returncode == 0, done.stderr[-2000:]
+    points = json.loads(out.with_suffix(".json").read_text())["points"]
+    assert [round(p["triangles"], -3) for p in points] == [8000, 2000]
+    assert all(p["hybrid_ms"] > 0 and p["rt_ms"] > 0 for p in points)
+
+
 @pytest.mark.parametrize("args, message", [(["procedural:10"], "triangles=10 must lie in"),
                                            (["--scaling", "triangles"], "needs --values"),
                                            (["--scaling", "resolution", "--values", "1280by720"],

@@ -131,3 +131,20 @@ def test_a_killed_worker_loses_nothing(tmp_path):
         b, _ = read_exr(tmp_path / "hit" / f"frame_{k:05d}.exr")
         image_a, image_b = (np.stack([x[c] for c in "RGB"], -1) for x in (a, b))
         assert np.abs(image_a - image_b).mean() <= 1e-3 * image_a.mean(), k
+
+
+def test_render_sequence_points_to_render_frames_for_workers():
+    """``hi.render_sequence`` keeps frames in memory in this process: asked for Ray workers, it
+    says which call writes frames on workers instead."""
+    scene = hi.load_scene(DEFAULT_SCENE, **SMALL)
+    with pytest.raises(hi.HybridError, match="render_frames"):
+        hi.render_sequence(scene, _cameras(2), workers=2)
+
+
+def test_gl_context_on_mesa_needs_no_cuda_device():
+    """The EGL device of Dr.Jit's CUDA device is looked up only with a CUDA variant; Mesa's EGL
+    names no CUDA device, so the context stays on EGL's first device."""
+    from hybrid_integrator.raster.context import egl_device_of_cuda, gl_context
+
+    assert egl_device_of_cuda() is None
+    assert gl_context().info["GL_RENDERER"]
