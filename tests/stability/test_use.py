@@ -49,6 +49,19 @@ def test_bad_arguments_are_one_line_errors(tmp_path, args, message):
     assert "Traceback" not in done.stderr
 
 
+def test_no_egl_driver_names_the_packages(tmp_path):
+    """Without an EGL driver (glvnd pointed at no vendor) the user sees one line naming the system
+    packages to install, and no output file."""
+    import os
+
+    out = tmp_path / "x.exr"
+    done = subprocess.run([sys.executable, "-m", "hybrid_integrator.cli", "render", str(DEFAULT_SCENE), *SMALL, "-o", str(out)],
+                          capture_output=True, text=True, cwd=ROOT, timeout=300,
+                          env={**os.environ, "__EGL_VENDOR_LIBRARY_FILENAMES": str(tmp_path / "no-vendor.json")})
+    assert done.returncode != 0 and "apt-get install libegl1" in done.stderr
+    assert "Traceback" not in done.stderr and not out.exists()
+
+
 def test_api_before_a_variant_says_what_to_do():
     code = "import hybrid_integrator as hi\ntry:\n hi.load_scene('scenes/default.xml')\nexcept hi.HybridError as e:\n print(e)"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
