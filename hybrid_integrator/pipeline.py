@@ -46,6 +46,7 @@ from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn
 from .objects import scene_objects
 from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
+from .raster.context import gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.visibility import Rasterizer, TriangleTables
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
@@ -559,6 +560,7 @@ class HybridRenderer:
                 self._gl_queries.append(self.raster.ctx.query(time=True))
             with self._gl_queries[sample]:
                 triangle_id = self.raster.device_ids(self.raster.render(camera, offset))
+            gl_flush()  # the query's end to the GPU now: its time is the raster pass's, not the frame's
         else:
             triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
         clock.lap("raster")

@@ -105,6 +105,32 @@ _GL_FRAMEBUFFER, _GL_RENDERBUFFER, _GL_DEPTH_ATTACHMENT = 0x8D40, 0x8D41, 0x8D00
 _GL_DEPTH_COMPONENT32F, _GL_FRAMEBUFFER_COMPLETE = 0x8CAC, 0x8CD5
 
 
+def gl_entry(name: str, *args, restype=None):
+    """An OpenGL entry point of the current context that moderngl does not expose, as a ctypes
+    function (through ``eglGetProcAddress``)."""
+    egl = ctypes.CDLL("libEGL.so.1")
+    egl.eglGetProcAddress.restype = ctypes.c_void_p
+    egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+    address = egl.eglGetProcAddress(name.encode())
+    if not address:
+        raise RasterContextError(f"the OpenGL driver has no {name} (OpenGL 4.5 is needed)")
+    return ctypes.CFUNCTYPE(restype, *args)(address)
+
+
+@functools.lru_cache(maxsize=1)
+def _gl_flush_entry():
+    gl_context()
+    return gl_entry("glFlush")
+
+
+def gl_flush() -> None:
+    """``glFlush``: hand the commands the driver has buffered to the GPU without waiting for them
+    (moderngl has only ``glFinish``, which waits). A timer query's end, issued after the raster
+    pass, otherwise sits in the buffer until the next call that flushes, and its time then spans
+    the whole frame."""
+    _gl_flush_entry()()
+
+
 class DepthPrecision:
     """Reversed-Z depth with a 32-bit float depth buffer, which moderngl does not expose.
 
@@ -116,16 +142,7 @@ class DepthPrecision:
     entry points needed are called through ``eglGetProcAddress`` in the context moderngl made."""
 
     def __init__(self):
-        egl = ctypes.CDLL("libEGL.so.1")
-        egl.eglGetProcAddress.restype = ctypes.c_void_p
-        egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
-
-        def entry(name: str, *args, restype=None):
-            address = egl.eglGetProcAddress(name.encode())
-            if not address:
-                raise RasterContextError(f"the OpenGL driver has no {name} (OpenGL 4.5 is needed)")
-            return ctypes.CFUNCTYPE(restype, *args)(address)
-
+        entry = gl_entry
         u = ctypes.c_uint
         self._clip_control = entry("glClipControl", u, u)
         self._gen_renderbuffers = entry("glGenRenderbuffers", ctypes.c_int, ctypes.POINTER(u))
