@@ -10,8 +10,11 @@ Here the denoiser is Intel Open Image Denoise 2.5 (``pyoidn``), its ``RT`` filte
 with ``cleanAux`` (the guides are noise-free):
 
 - on the CUDA variants, an OIDN CUDA device bound to Dr.Jit's own CUDA stream
-  (``jit_cuda_stream``) reads and writes Dr.Jit's device memory in place: no copy to the host and
-  no synchronization; the filter runs after the frame's kernels and before its one sync;
+  (``jit_cuda_stream``) reads and writes device memory: no copy to the host and no
+  synchronization; the filter runs after the frame's kernels and before its one sync. Its four
+  images are device arrays made once per size, which the filter keeps (``_DeviceImages``): a
+  frame copies its colour and guides in and the result out on the stream (four device copies),
+  instead of wrapping new buffers and committing the filter again every frame;
 - on the LLVM variants, the OIDN CPU device, on host copies of the images.
 
 Guides, as OIDN asks: ``albedo`` is the G-buffer's diffuse albedo plus its specular colour
@@ -41,6 +44,34 @@ class Guides:
     normal: mi.TensorXf
 
 
+#: the filter's images, in this order everywhere
+IMAGES = ("color", "albedo", "normal", "output")
+
+
+@dataclass
+class _DeviceImages:
+    """The filter's four images (``IMAGES``, H×W×3 float) as device arrays that live as long as
+    the filter, which is committed with them once."""
+
+    arrays: list  # mi.Float each, kept alive: OIDN holds their addresses
+    buffers: list  # OIDN shared buffers over them
+    pointers: list[int]
+
+    @staticmethod
+    def make(device, f, width: int, height: int) -> "_DeviceImages":
+        from .raster.interop import device_pointer
+
+        oidn = _pyoidn()
+        arrays = [dr.zeros(mi.Float, width * height * 3) for _ in IMAGES]
+        dr.eval(*arrays)
+        pointers = [device_pointer(a) for a in arrays]
+        buffers = [oidn.Buffer.shared(device, pointer, width * height * 3 * 4) for pointer in pointers]
+        for name, buffer in zip(IMAGES, buffers):
+            f.set_image(name, buffer, oidn.OIDN_FORMAT_FLOAT3, width, height)
+        f.commit()
+        return _DeviceImages(arrays, buffers, pointers)
+
+
 def _pyoidn():
     try:
         import pyoidn
@@ -59,7 +90,7 @@ class Denoiser:
         self.cuda = mi.variant().startswith("cuda")
         self._device = None
         self._filters: dict[tuple[int, int], object] = {}
-        self._held: list = []  # the buffers of the last call, alive until its filter has run
+        self._images: dict[tuple[int, int], _DeviceImages] = {}  # CUDA: the filter's images, per size
         self._timer = None  # CUDA events around the filter (its kernels are not Dr.Jit's)
         self._host_ms = 0.0
 
@@ -103,37 +134,39 @@ class Denoiser:
         height, width = color.shape[0], color.shape[1]
         f = self._filter(width, height)
         if self.cuda:
-            from .raster.interop import device_pointer
-
-            out = dr.zeros(mi.TensorXf, color.shape)
-            images = [color, guides.albedo, guides.normal, out]
-            dr.eval(*images)  # issued, not waited for: OIDN runs after them on the same stream
-            nbytes = width * height * 3 * 4
-            buffers = [oidn.Buffer.shared(self._device, device_pointer(a.array), nbytes) for a in images]
-            for old in self._held[1:]:
-                for b in old:
-                    b.release()  # the filter now refers to the new buffers
-            self._held = [images, buffers]
-        else:
-            host = [np.ascontiguousarray(np.array(a, dtype=np.float32)) for a in (color, guides.albedo, guides.normal)]
-            out_host = np.zeros_like(host[0])
-            buffers = host + [out_host]
-        for name, buffer in zip(("color", "albedo", "normal", "output"), buffers):
+            return self._denoise_on_device(f, color, guides)
+        host = [np.ascontiguousarray(np.array(a, dtype=np.float32)) for a in (color, guides.albedo, guides.normal)]
+        out_host = np.zeros_like(host[0])
+        for name, buffer in zip(IMAGES, host + [out_host]):
             f.set_image(name, buffer, oidn.OIDN_FORMAT_FLOAT3, width, height)
         f.commit()
-        if self.cuda:
-            from .raster.interop import StreamTimer
-
-            self._timer = self._timer or StreamTimer()
-            self._timer.start()
-            f.execute_async()
-            self._timer.stop()
-        else:
-            start = time.perf_counter()
-            f.execute()
-            self._host_ms = (time.perf_counter() - start) * 1e3
+        start = time.perf_counter()
+        f.execute()
+        self._host_ms = (time.perf_counter() - start) * 1e3
         self._check(self._device, "denoising")
-        return out if self.cuda else mi.TensorXf(out_host)
+        return mi.TensorXf(out_host)
+
+    def _denoise_on_device(self, f, color: mi.TensorXf, guides: Guides) -> mi.TensorXf:
+        from .raster.interop import StreamTimer, device_pointer
+
+        height, width = color.shape[0], color.shape[1]
+        self._timer = self._timer or StreamTimer()
+        if (width, height) not in self._images:
+            self._images[(width, height)] = _DeviceImages.make(self._device, f, width, height)
+        images = self._images[(width, height)]
+        inputs = [color.array, guides.albedo.array, guides.normal.array]
+        dr.eval(*inputs)  # issued, not waited for: the copies and the filter follow on the same stream
+        nbytes = width * height * 3 * 4
+        driver = self._timer.driver
+        driver.copy_async(zip(images.pointers[:3], (device_pointer(a) for a in inputs)), nbytes)
+        self._timer.start()
+        f.execute_async()
+        self._timer.stop()
+        self._check(self._device, "denoising")
+        out = dr.empty(mi.Float, width * height * 3)
+        dr.eval(out)
+        driver.copy_async([(device_pointer(out), images.pointers[3])], nbytes)  # the next frame reuses the image
+        return mi.TensorXf(out, color.shape)
 
     def elapsed_ms(self) -> float:
         """The last call's filter time: device time on the GPU (read after the frame's

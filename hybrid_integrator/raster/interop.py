@@ -89,6 +89,14 @@ class _Driver:
         """A driver call where :meth:`current` has made the context current."""
         self._check(getattr(self.lib, name)(*args), name)
 
+    def copy_async(self, pairs, nbytes: int) -> None:
+        """Device-to-device copies of ``nbytes`` each, ``(destination, source)`` addresses, on
+        Dr.Jit's stream: ordered after the kernels issued before them, waited for by none."""
+        with self.current():
+            for target, source in pairs:
+                self.call_current("cuMemcpyDtoDAsync_v2", ctypes.c_uint64(target), ctypes.c_uint64(source),
+                                  ctypes.c_size_t(nbytes), self.stream)
+
     @contextlib.contextmanager
     def current(self):
         self._check(self.lib.cuCtxPushCurrent_v2(self.context), "cuCtxPushCurrent")
