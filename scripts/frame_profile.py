@@ -45,6 +45,8 @@ def main() -> None:
     profile.disable()
     times = {k: statistics.median(f.stats.times_ms[k] for f in frames) for k in frames[0].stats.times_ms}
     print(f"{args.scene.name} {args.variant} {props}: median ms per frame", {k: round(v, 3) for k, v in times.items()})
+    host = {k: statistics.median(f.stats.host_ms[k] for f in frames) for k in frames[0].stats.host_ms}
+    print("median host ms per phase", {k: round(v, 3) for k, v in host.items()}, "readback:", frames[0].stats.readback)
     out = io.StringIO()
     pstats.Stats(profile, stream=out).sort_stats("tottime").print_stats(args.top)
     print(f"host profile over {args.frames} frames (divide by {args.frames} for per-frame time):")

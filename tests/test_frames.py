@@ -148,3 +148,18 @@ def test_gl_context_on_mesa_needs_no_cuda_device():
 
     assert egl_device_of_cuda() is None
     assert gl_context().info["GL_RENDERER"]
+
+
+def test_workers_without_ray_say_how_to_get_it(tmp_path):
+    """Ray is an optional extra: where it cannot be imported, workers > 1 is a one-line error
+    naming the extra to install (workers = 1 needs no Ray)."""
+    import subprocess
+    import sys
+
+    code = ("import sys; sys.modules['ray'] = None; import mitsuba as mi; mi.set_variant('llvm_ad_rgb'); "
+            "import hybrid_integrator as hi; import numpy as np\n"
+            "try:\n    hi.render_frames(sys.argv[1], [np.eye(4).tolist()], sys.argv[2], workers=2)\n"
+            "except hi.HybridError as e:\n    print('ERROR', e)")
+    done = subprocess.run([sys.executable, "-c", code, str(DEFAULT_SCENE), str(tmp_path)], capture_output=True,
+                          text=True, timeout=300)
+    assert "ERROR" in done.stdout and "pip install 'hybrid_integrator[ray]'" in done.stdout, done.stderr[-2000:]
