@@ -4,6 +4,7 @@ Through the same sub-pixel positions, shape and triangle must agree on >= 99.9 %
 hit/miss on >= 99.9 %, and the median relative depth error must be <= 1e-4."""
 from __future__ import annotations
 
+import mitsuba as mi
 import numpy as np
 import pytest
 
@@ -133,3 +134,32 @@ def test_frame_says_how_the_raster_targets_reached_drjit():
     scene = load(DEFAULT_SCENE)
     frame = hi.render(scene, spp=1)
     assert frame.stats.readback == "host (llvm_ad_rgb is not a CUDA variant)"
+
+
+def test_raster_camera_follows_a_path_set_from_matrices():
+    """``render_frames`` sets the sensor's ``to_world`` from 4×4 matrices. ``traverse`` hands out the
+    sensor's own objects, which an update changes in place: the raster camera's cache must not
+    mistake a new camera for an old one whose variable indices were freed and reused (it once
+    did, and the raster drew frames from stale cameras)."""
+    import hybrid_integrator as hi
+    from hybrid_integrator.raster import camera as cam
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    sensor = scene.sensors()[0]
+    params = mi.traverse(sensor)
+    start = np.array(params["to_world"].matrix).reshape(4, 4)
+    origin, target = start[:3, 3], start[:3, 3] + start[:3, 2]
+    path = hi.camera_path([(origin, target), (origin + [0.5, 0.2, 0.0], target)], 80)
+    stale = 0
+    for k, c in enumerate(path):
+        params["to_world"] = mi.ScalarTransform4f(cam.transform_matrix(c))
+        params.update()
+        used = cam.RasterCamera.from_sensor(sensor)
+        hi.render(scene, spp=1, seed=k, layers=False, denoise=False)  # the frame's own Dr.Jit work
+        kept = dict(cam._CAMERAS)
+        cam._CAMERAS.clear()
+        fresh = cam.RasterCamera.from_sensor(sensor)
+        cam._CAMERAS.clear()
+        cam._CAMERAS.update(kept)
+        stale += not np.allclose(used.world_to_clip, fresh.world_to_clip)
+    assert stale == 0

@@ -69,11 +69,13 @@ class RasterCamera:
         orthographic = kind == "OrthographicCamera"
         names = ("to_world",) if orthographic else ("x_fov", "principal_point_offset_x", "principal_point_offset_y",
                                                     "to_world")
-        values = [params[k] for k in names]
-        near, far = sensor.near_clip(), sensor.far_clip()
         # the parameters' Dr.Jit variables: a change makes new ones, and holding the old ones (in
         # the cache) keeps their indices from being reused, so equal indices mean equal values,
-        # without reading them back from the device
+        # without reading them back from the device. The objects ``traverse`` returns are the
+        # sensor's own and are updated in place (new indices, the old ones freed and reused), so
+        # the cache holds copies, which keep the variables they were made with
+        values = [type(v)(v) for v in (params[k] for k in names)]
+        near, far = sensor.near_clip(), sensor.far_clip()
         key = (tuple(size), near, far, tuple(dr.detail.collect_indices(values)))
         cached = _CAMERAS.get(id(sensor))
         if cached is not None and cached[0] == key:
