@@ -238,13 +238,10 @@ def _children(jobs: list[tuple[str, Path, list[str]]], workers: Workers, desc: s
             bar.update()
         bar.close()
         return reports
-    try:
-        import ray
-    except ImportError as exc:
-        raise HybridError("bench --ray needs Ray: pip install 'hybrid_integrator[ray]'") from exc
-    if not ray.is_initialized():
-        ray.init(address=None if workers.ray == "auto" else workers.ray, include_dashboard=False,
-                 log_to_driver=False, ignore_reinit_error=True)
+    from .frames import start_ray
+
+    ray = start_ray("bench --ray needs Ray: pip install 'hybrid_integrator[ray]'",
+                    None if workers.ray == "auto" else workers.ray)
     task = ray.remote(num_gpus=workers.gpus, num_cpus=0 if workers.gpus else 1, max_retries=2)(_child)
     pending = {task.remote(*job): k for k, job in enumerate(jobs)}
     reports: list[dict | None] = [None] * len(jobs)

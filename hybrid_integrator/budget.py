@@ -121,7 +121,7 @@ def grown_table(table: np.ndarray, rows: int) -> np.ndarray:
     return grown
 
 
-def _learn(table: np.ndarray, index: np.ndarray, value: np.ndarray, smoothing: float) -> np.ndarray:
+def blend_rows(table: np.ndarray, index: np.ndarray, value: np.ndarray, smoothing: float) -> np.ndarray:
     """Blend ``value`` into the rows ``index`` of ``table`` (a first value is taken as it is)."""
     table = grown_table(table, int(index.max()) + 1 if len(index) else 0)
     old = table[index]
@@ -155,8 +155,8 @@ class FrameState:
         seen = pixels > 0
         index, pixels = index[seen], pixels[seen].astype(np.float64)
         if len(index):
-            self.rays_per_pixel = _learn(self.rays_per_pixel, index, rays[seen] / pixels[:, None], smoothing)
-            self.error_per_pixel = _learn(self.error_per_pixel, index, error_sums[seen] / pixels, smoothing)
+            self.rays_per_pixel = blend_rows(self.rays_per_pixel, index, rays[seen] / pixels[:, None], smoothing)
+            self.error_per_pixel = blend_rows(self.error_per_pixel, index, error_sums[seen] / pixels, smoothing)
 
 
 @dataclass

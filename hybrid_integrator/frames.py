@@ -126,15 +126,24 @@ def render_frames(scene: str | Path, cameras, out_dir: str | Path, spp: int = 1,
             "workers": workers, "preview": None if gif is None else str(gif), "out_dir": str(out)}
 
 
-def _render_on_ray(job: Job, matrices: list, todo: list[int], workers: int, address: str | None, gpus: float,
-                   bar) -> None:
+def start_ray(missing: str, address: str | None = None, num_cpus: int | None = None):
+    """The ``ray`` module, with Ray running: a local instance (``num_cpus`` workers' worth, None:
+    all cores) or the cluster at ``address``, unless this process started it already. Where Ray
+    is not installed, a :class:`HybridError` with the message ``missing``."""
     try:
         import ray
     except ImportError as exc:
-        raise HybridError("workers > 1 needs Ray: pip install 'hybrid_integrator[ray]' (or workers=1)") from exc
+        raise HybridError(missing) from exc
     if not ray.is_initialized():
-        ray.init(address=address, num_cpus=None if address else workers, include_dashboard=False,
-                 log_to_driver=False, ignore_reinit_error=True)
+        ray.init(address=address, num_cpus=num_cpus, include_dashboard=False, log_to_driver=False,
+                 ignore_reinit_error=True)
+    return ray
+
+
+def _render_on_ray(job: Job, matrices: list, todo: list[int], workers: int, address: str | None, gpus: float,
+                   bar) -> None:
+    ray = start_ray("workers > 1 needs Ray: pip install 'hybrid_integrator[ray]' (or workers=1)", address,
+                    None if address else workers)
     actor = ray.remote(num_gpus=gpus, num_cpus=0 if gpus else 1, max_restarts=2, max_task_retries=3)(FrameRenderer)
     pending = []
     for chunk in chunks(todo, workers):

@@ -188,15 +188,13 @@ def learn_ambient(learnt: np.ndarray, index: np.ndarray, residual: np.ndarray, a
     """The learnt ``E`` (objects × 3, NaN: never) updated from one frame's sums over the traced
     pixels of objects ``index`` (rows of ``residual`` and ``albedo``; module docstring);
     channels whose albedo is (nearly) black keep the old value. Returns the new table."""
-    from .budget import grown_table
+    from .budget import blend_rows, grown_table
 
     table = grown_table(learnt, int(index.max()) + 1 if len(index) else 0).copy()
     seen = albedo > 1e-3 * np.maximum(pixels, 1)[:, None]
-    old = table[index]
-    value = np.where(seen, residual / np.where(seen, albedo, 1.0), np.nan_to_num(old))
-    blended = np.where(np.isfinite(old), smoothing * old + (1 - smoothing) * value, value)
-    table[index] = np.where(seen.any(axis=1, keepdims=True), blended, old)
-    return table
+    value = np.where(seen, residual / np.where(seen, albedo, 1.0), np.nan_to_num(table[index]))
+    rows = seen.any(axis=1)
+    return blend_rows(table, index[rows], value[rows], smoothing)
 
 
 def with_ambient(raster: mi.Color3f, albedo: mi.Color3f, obj: mi.UInt32, hit: mi.Bool, table: mi.Float) -> mi.Color3f:

@@ -35,21 +35,11 @@ def rss_mb() -> float:
     return int(Path("/proc/self/statm").read_text().split()[1]) * 4096 / 2**20
 
 
-class GpuMemory:
-    """GPU memory in use on device 0 (CUDA driver API, in Dr.Jit's primary context)."""
-
-    def __init__(self):
-        self.lib = ctypes.CDLL("libcuda.so.1")
-        self.context = ctypes.c_void_p()
-        self.lib.cuInit(0)
-        self.lib.cuDevicePrimaryCtxRetain(ctypes.byref(self.context), 0)
-
-    def used_mb(self) -> float:
-        free, total = ctypes.c_size_t(), ctypes.c_size_t()
-        self.lib.cuCtxPushCurrent_v2(self.context)
-        self.lib.cuMemGetInfo_v2(ctypes.byref(free), ctypes.byref(total))
-        self.lib.cuCtxPopCurrent_v2(ctypes.byref(ctypes.c_void_p()))
-        return (total.value - free.value) / 2**20
+def gpu_used_mb(driver) -> float:
+    """GPU memory in use on Dr.Jit's device (``cuMemGetInfo`` through ``interop``'s CUDA driver)."""
+    free, total = ctypes.c_size_t(), ctypes.c_size_t()
+    driver.call("cuMemGetInfo_v2", ctypes.byref(free), ctypes.byref(total))
+    return (total.value - free.value) / 2**20
 
 
 def main() -> None:
@@ -74,7 +64,9 @@ def main() -> None:
     import hybrid_integrator as hi
     from hybrid_integrator.raster.context import machine
 
-    gpu = GpuMemory() if args.variant.startswith("cuda") else None
+    from hybrid_integrator.raster.interop import _Driver
+
+    gpu = _Driver() if args.variant.startswith("cuda") else None
     params = dict(d.split("=", 1) for d in args.define)
     scene = hi.load_scene(args.scene, **params, resx=str(args.resx), resy=str(args.resy))
     sensor = mi.traverse(scene.sensors()[0])
@@ -96,7 +88,7 @@ def main() -> None:
         if k % args.every == 0 or k == args.frames - 1:
             dr.sync_thread()
             image = np.array(result.image)
-            samples.append({"frame": k, "rss_mb": rss_mb(), "gpu_mb": gpu.used_mb() if gpu else None,
+            samples.append({"frame": k, "rss_mb": rss_mb(), "gpu_mb": gpu_used_mb(gpu) if gpu else None,
                             "finite": bool(np.isfinite(image).all()), "mean": float(image[..., :3].mean())})
     warm = next(s for s in samples if s["frame"] >= min(args.warmup, args.frames - 1))
     last = samples[-1]
@@ -114,12 +106,12 @@ def main() -> None:
     if args.large:
         del scene, integrator, result
         big = hi.load_scene(args.scene, **params, resx=str(args.large), resy=str(args.large))
-        before = gpu.used_mb() if gpu else None
+        before = gpu_used_mb(gpu) if gpu else None
         t = time.perf_counter()
         frame = hi.render(big, spp=1, layers=False)
         image = np.array(frame.image)
         report["large"] = {"size": args.large, "wall_s": time.perf_counter() - t, "rss_mb": rss_mb(),
-                           "gpu_mb_before": before, "gpu_mb_after": gpu.used_mb() if gpu else None,
+                           "gpu_mb_before": before, "gpu_mb_after": gpu_used_mb(gpu) if gpu else None,
                            "finite": bool(np.isfinite(image).all()), "mean": float(image[..., :3].mean()),
                            "fallback": frame.stats.fallback, "readback": frame.stats.readback}
     args.output.mkdir(parents=True, exist_ok=True)

@@ -91,10 +91,11 @@ class RasterCamera:
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
                                   [0.0, 0.0, 0.0, 1.0]])
-        world_to_clip = sample_to_ndc @ camera_to_sample @ np.linalg.inv(camera_to_world)
+        world_to_camera = np.linalg.inv(camera_to_world)
+        world_to_clip = sample_to_ndc @ camera_to_sample @ world_to_camera
         camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
                      eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far),
-                     orthographic=orthographic, depth_row=np.linalg.inv(camera_to_world)[2].copy())
+                     orthographic=orthographic, depth_row=world_to_camera[2].copy())
         _CAMERAS[id(sensor)] = (key, values, camera)
         while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
             del _CAMERAS[next(iter(_CAMERAS))]

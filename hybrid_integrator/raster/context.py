@@ -25,6 +25,15 @@ REQUIRED_GL = 450
 _EGL_CUDA_DEVICE_NV = 0x323A
 
 
+def _proc_address(name: str) -> int | None:
+    """``eglGetProcAddress(name)``: the address of an EGL or OpenGL entry point (None: the driver
+    has none). Raises ``OSError`` where there is no ``libEGL``."""
+    egl = ctypes.CDLL("libEGL.so.1")
+    egl.eglGetProcAddress.restype = ctypes.c_void_p
+    egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
+    return egl.eglGetProcAddress(name.encode())
+
+
 def egl_device_of_cuda(ordinal: int = 0) -> int | None:
     """Index of the EGL device that is CUDA device ``ordinal`` (Dr.Jit's is 0), or None where EGL
     cannot say (Mesa, no ``EGL_NV_device_cuda``).
@@ -34,12 +43,9 @@ def egl_device_of_cuda(ordinal: int = 0) -> int | None:
     raster stage would then draw on a GPU that its interop cannot read (CUDA–GL interop needs the
     GL context on the CUDA device) and share that GPU with another worker."""
     try:
-        egl = ctypes.CDLL("libEGL.so.1")
+        query, attribute = (_proc_address(name) for name in ("eglQueryDevicesEXT", "eglQueryDeviceAttribEXT"))
     except OSError:
         return None
-    egl.eglGetProcAddress.restype = ctypes.c_void_p
-    egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
-    query, attribute = (egl.eglGetProcAddress(name) for name in (b"eglQueryDevicesEXT", b"eglQueryDeviceAttribEXT"))
     if not query or not attribute:
         return None
     query = ctypes.CFUNCTYPE(ctypes.c_uint, ctypes.c_int, ctypes.POINTER(ctypes.c_void_p),
@@ -108,10 +114,7 @@ _GL_DEPTH_COMPONENT32F, _GL_FRAMEBUFFER_COMPLETE = 0x8CAC, 0x8CD5
 def gl_entry(name: str, *args, restype=None):
     """An OpenGL entry point of the current context that moderngl does not expose, as a ctypes
     function (through ``eglGetProcAddress``)."""
-    egl = ctypes.CDLL("libEGL.so.1")
-    egl.eglGetProcAddress.restype = ctypes.c_void_p
-    egl.eglGetProcAddress.argtypes = [ctypes.c_char_p]
-    address = egl.eglGetProcAddress(name.encode())
+    address = _proc_address(name)
     if not address:
         raise RasterContextError(f"the OpenGL driver has no {name} (OpenGL 4.5 is needed)")
     return ctypes.CFUNCTYPE(restype, *args)(address)
