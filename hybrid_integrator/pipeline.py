@@ -207,6 +207,8 @@ class StageClock:
     def __init__(self):
         self.stage_of: dict[str, str] = {}
         self._taken: list[tuple[str, dict]] = []
+        #: the last frame's kernels, each with its stage (``scripts/frame_profile.py --kernels``)
+        self.last: list[tuple[str, dict]] = []
 
     def mark(self, stage: str, *values) -> None:
         """Evaluate ``values``; the kernels launched for them that no stage has claimed yet are
@@ -222,10 +224,12 @@ class StageClock:
         """The device ms per stage of the kernels since the last call (the frame's)."""
         times = dict.fromkeys(STAGES[1:], 0.0)
         current = STAGES[1]
+        self.last = []
         for stage, entry in self._taken + [(None, e) for e in dr.kernel_history()]:
             stage = stage or self.stage_of.get(entry.get("hash"), current)
             current = stage
             times[stage] = times.get(stage, 0.0) + float(entry.get("execution_time", 0.0))
+            self.last.append((stage, entry))
         self._taken = []
         return times
 
@@ -326,7 +330,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     albedo = mi.Color3f(*targets["albedo"])
     raster = with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient)
     aovs = {k: targets[k] for k in static.aovs}
-    clock.mark("lighting", raster, aovs)
+    clock.mark("lighting", raster, shaded, albedo, aovs)
     # 3. selection (§4): the selected objects' pixels whose material needs an effect; coverage (eq. 1)
     selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
                               static.has_emitters)
@@ -395,6 +399,7 @@ class _Frame:
     stats: FrameStats
     ambient: mi.Float | None = None  # the learnt ambient table this frame shades with
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
+    traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
 
 def develop(sensor: mi.Sensor, block: mi.TensorXf) -> mi.TensorXf:
@@ -503,7 +508,8 @@ class HybridRenderer:
     def _post(self, settings: HybridSettings, frame: _Frame, state: FrameState, image: mi.TensorXf,
               outputs: list[PassOutput]) -> mi.TensorXf:
         """After the film: the frame blended with its reprojected history (``temporal.py``), then
-        denoised with the G-buffer's guides (``denoise.py``); alpha, if the film has it, is kept."""
+        denoised with the G-buffer's guides (``denoise.py``) if it traced anything (the raster
+        layer alone is noise-free); alpha, if the film has it, is kept."""
         if not (settings.temporal or settings.denoise):
             state.history = None
             return image
@@ -516,7 +522,7 @@ class HybridRenderer:
             self.clock.mark("temporal", rgb, state.history.count)
         else:
             state.history = None
-        if settings.denoise:
+        if settings.denoise and frame.traces:  # a frame that traces nothing has no noise to remove
             sums = sum_tensors([o.guides for o in outputs])
             guide = [sums[..., k:k + 3] / dr.maximum(sums[..., 6:7], 1e-12) for k in (0, 3)]
             if settings.denoise_quality not in self._denoisers:
@@ -532,6 +538,7 @@ class HybridRenderer:
         traced, if this frame is the first of its size). Returns the plan and each object's
         effect set for the device pass."""
         if settings.budget_ms <= 0:
+            frame.traces = bool((frame.candidate_config >= 0).any())
             return None, frame.candidates
         cov = state.coverage
         if not isinstance(cov, Coverage) or (cov.width, cov.height) != (frame.camera.width, frame.camera.height):
@@ -542,6 +549,7 @@ class HybridRenderer:
         config = np.full(len(self.objects), -1, dtype=np.int32)
         traced = plan.candidates.index[plan.picked]
         config[traced] = frame.candidate_config[traced]
+        frame.traces = bool((config >= 0).any())
         return plan, mi.Int32(config)
 
     def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:

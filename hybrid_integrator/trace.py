@@ -230,7 +230,10 @@ def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.
     p = _Path(ray=ray, si=si, rng=rng, L=emitted, beta=dr.full(mi.Color3f, 1.0, n), eta=dr.full(mi.Float, 1.0, n),
               depth=dr.zeros(mi.UInt32, n), active=mi.Bool(active),
               rays=[dr.zeros(mi.UInt32, n) for _ in RAY_KINDS])
-    _vertex(scene, p, first, config, depth_limit, rr_depth)
+    if len(first) > 1 or first[0].key() != rest.key():  # the primary vertex has lobes of its own
+        _vertex(scene, p, first, config, depth_limit, rr_depth)
+    # else it is the loop's first iteration: one copy of the vertex's code in the kernel, which
+    # then needs fewer registers (the same paths, the same random numbers)
     # the loop's state variables, one by one, as dr.while_loop tracks them
     ray, si, rng, L, beta, eta, depth, active, rays = p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays
     while active:

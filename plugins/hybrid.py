@@ -54,7 +54,9 @@ Properties
                  the same kernels, traced every frame (slower; for checking).
 ``denoise``      denoise the frame with Open Image Denoise, guided by the G-buffer's albedo and
                  normal (exact and noise-free: ``hybrid_integrator/denoise.py``); on the GPU it
-                 runs on Dr.Jit's CUDA stream. ``denoise_quality``: OIDN's ``fast`` (the
+                 runs on Dr.Jit's CUDA stream. A frame that traces nothing (no candidate, or
+                 none selected within the budget) is the raster layer, which has no noise: it is
+                 not denoised (``stats.times_ms["denoise"]`` is 0). ``denoise_quality``: OIDN's ``fast`` (the
                  default: 1.1 ms at 1280×720 on an H100, against 3.2 ms for ``high``),
                  ``balanced`` or ``high``.
 ``temporal``     blend each frame with the previous ones, reprojected through the visibility

@@ -25,6 +25,8 @@ def main() -> None:
     parser.add_argument("--primary", default="raster", choices=("raster", "raytrace"))
     parser.add_argument("--candidates", default=None, help="the integrator's candidates ('' for the raster layer alone)")
     parser.add_argument("--top", type=int, default=25)
+    parser.add_argument("--kernels", action="store_true", help="list the last frame's kernels by stage")
+    parser.add_argument("--path", action="store_true", help="also time Mitsuba's path at 1 spp: wall and kernels")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
 
@@ -47,10 +49,51 @@ def main() -> None:
     print(f"{args.scene.name} {args.variant} {props}: median ms per frame", {k: round(v, 3) for k, v in times.items()})
     host = {k: statistics.median(f.stats.host_ms[k] for f in frames) for k in frames[0].stats.host_ms}
     print("median host ms per phase", {k: round(v, 3) for k, v in host.items()}, "readback:", frames[0].stats.readback)
+    if args.kernels:
+        print_kernels(hi.api.renderer(scene).clock.last)
+    if args.path:
+        profile_path(scene, args.frames)
     out = io.StringIO()
     pstats.Stats(profile, stream=out).sort_stats("tottime").print_stats(args.top)
     print(f"host profile over {args.frames} frames (divide by {args.frames} for per-frame time):")
     print(out.getvalue())
+
+
+def print_kernels(entries) -> None:
+    """One line per kernel (or reduction/copy) of a frame: stage, hash, lanes, operations, device ms."""
+    print("stage      hash      type        lanes   ops      ms")
+    for stage, e in entries:
+        print(f"{stage:10s} {str(e.get('hash', ''))[:8]:8s}  {str(e.get('type', '')).split('.')[-1]:10s}"
+              f"{e.get('size', 0):9d} {e.get('operation_count', 0):6d} {float(e.get('execution_time', 0.0)):7.3f}")
+
+
+def profile_path(scene, frames: int) -> None:
+    """Mitsuba's ``path`` at 1 spp as the bench times it (one sync per frame): wall ms and the
+    device ms of its kernels, medians over ``frames`` warm frames."""
+    import time
+
+    import drjit as dr
+    import mitsuba as mi
+
+    integrator = mi.load_dict({"type": "path", "max_depth": -1})
+    walls, kernels, issue = [], [], []
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        for k in range(frames + 3):
+            dr.kernel_history_clear()
+            start = time.perf_counter()
+            image = mi.render(scene, integrator=integrator, spp=1, seed=k)
+            issued = time.perf_counter()
+            dr.eval(image)
+            dr.sync_thread()
+            end = time.perf_counter()
+            history = dr.kernel_history()
+            if k >= 3:
+                walls.append((end - start) * 1e3)
+                issue.append((issued - start) * 1e3)
+                kernels.append(sum(float(e.get("execution_time", 0.0)) for e in history))
+    print(f"path 1 spp: median wall {statistics.median(walls):.2f} ms, host issue {statistics.median(issue):.2f} ms, "
+          f"kernels {statistics.median(kernels):.2f} ms")
+    print_kernels([("path", e) for e in history])
 
 
 if __name__ == "__main__":

@@ -46,6 +46,16 @@ def test_denoiser_with_gbuffer_guides_beats_noisy_frame_and_path():
         hi.render(scene, spp=1, denoise_quality="best")
 
 
+def test_frame_that_traces_nothing_is_not_denoised():
+    """No candidate: the image is the raster layer, which has no noise, so the denoiser does not
+    run (it would cost its full time for nothing): the image is the composed film itself."""
+    scene = load(DEFAULT_SCENE, **SIZE)
+    raster = hi.render(scene, spp=1, seed=4, candidates="")
+    assert raster.stats.pixels_traced == 0 and raster.stats.times_ms["denoise"] == 0
+    assert np.array_equal(np.array(raster.image), np.array(raster.composed))
+    assert hi.render(scene, spp=1, seed=4).stats.times_ms["denoise"] > 0  # the same scene traced: denoised
+
+
 def test_still_camera_history_is_the_mean_of_its_frames():
     """With a still camera every pixel reprojects onto itself: the history is the plain mean of the
     composed frames, and it converges (each frame another sub-pixel offset and seed)."""
