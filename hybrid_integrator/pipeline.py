@@ -616,7 +616,9 @@ class HybridRenderer:
         stats.edge_refinements = sum(p.edge_refined for p in passes)
         covs = [self._coverage(frame, p) for p in passes]
         cov = covs[0]
-        if plan is None:  # no budget: every visible candidate was traced; most relevant first
+        if plan is None and not frame.traces:  # no candidate at all: nothing traced, nothing to order
+            ordered, planned = np.zeros(0, dtype=np.int64), set()
+        elif plan is None:  # no budget: every visible candidate was traced; most relevant first
             terms = visibility_terms(cov, frame.active, state.selected, settings.importance, self._errors(settings, state))
             visible = np.nonzero(terms.candidate)[0]
             ordered = visible[np.argsort(-terms.relevance[visible], kind="stable")]
@@ -639,11 +641,12 @@ class HybridRenderer:
                                          stats.times_ms["trace"] / len(passes), expected=plan.rays)
             elif len(c):
                 state.cost_model.forget_slowest()
-        errors, residual, albedo = (sum(getattr(c, name) for c in covs) for name in ("error_sum", "residual_sum", "albedo_sum"))
-        pixels = cov.pixels[ordered] * len(passes)
-        state.learn(ordered, pixels, per_object[ordered], errors[ordered])
-        if settings.learn_ambient:
-            state.ambient = learn_ambient(state.ambient, ordered, residual[:, ordered].T, albedo[:, ordered].T, pixels)
+        if len(ordered):
+            errors, residual, albedo = (sum(getattr(c, name) for c in covs) for name in ("error_sum", "residual_sum", "albedo_sum"))
+            pixels = cov.pixels[ordered] * len(passes)
+            state.learn(ordered, pixels, per_object[ordered], errors[ordered])
+            if settings.learn_ambient:
+                state.ambient = learn_ambient(state.ambient, ordered, residual[:, ordered].T, albedo[:, ordered].T, pixels)
         stats.selected = tuple(self.objects.names[k] for k in ordered.tolist())
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)
