@@ -144,6 +144,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         hybrid("hybrid, denoiser 'high'", "hybrid", 3, denoise_quality="high")
         for s in (2, 4):
             hybrid(f"hybrid {s * spp} spp", "hybrid", 3, frame_spp=s * spp)
+        # path + denoiser below uses the 'high' filter too: the same denoiser on both sides
+        hybrid(f"hybrid {2 * spp} spp, denoiser 'high'", "hybrid", 3, frame_spp=2 * spp, denoise_quality="high")
         history = hybrid("hybrid+history", "hybrid", 3, temporal=True)
 
     def path(method: str, path_spp: int) -> Measurement:
@@ -333,8 +335,11 @@ def chart(report: dict, path: Path) -> None:
                                         lambda m: f"{m['spp']}"),
               "Mitsuba path, 1…N spp": ([m for m in methods if m["method"].startswith("path@") and m["method"][5].isdigit()],
                                         lambda m: m["method"].split("@")[1]),
-              "path + denoiser": ([m for m in methods if m["method"].startswith("path+denoiser@")],
-                                  lambda m: m["method"].split("@")[1])}
+              "hybrid + OIDN 'high' (as path + denoiser)": (
+                  [m for m in methods if m["method"].endswith("denoiser 'high'") and m["method"].startswith("hybrid")],
+                  lambda m: f"{m['spp']}"),
+              "path + denoiser ('high')": ([m for m in methods if m["method"].startswith("path+denoiser@")],
+                                           lambda m: m["method"].split("@")[1])}
     for label, (ms, tag) in curves.items():
         if not ms:
             continue

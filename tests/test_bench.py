@@ -27,7 +27,8 @@ def test_bench_report_has_every_field(tmp_path):
     assert set(FIELDS) <= set(report)
     names = [m["method"] for m in report["methods"]]
     assert names == ["raster", "hybrid", "rt-baseline", "hybrid@0%", "hybrid@50%", "hybrid, no denoiser",
-                     "hybrid, denoiser 'high'", "hybrid 2 spp", "hybrid 4 spp", "hybrid+history", "path@1spp",
+                     "hybrid, denoiser 'high'", "hybrid 2 spp", "hybrid 4 spp", "hybrid 2 spp, denoiser 'high'",
+                     "hybrid+history", "path@1spp",
                      "path@2spp", "path@equal-time", "path@history-time", "path+denoiser@1spp",
                      "path+denoiser@2spp", "path+denoiser@4spp"]
     history = next(m for m in report["methods"] if m["method"] == "hybrid+history")
