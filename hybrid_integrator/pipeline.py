@@ -449,8 +449,12 @@ class HybridRenderer:
             clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
             clock.lap("select")
-            outputs = [self._pass(settings, frame, config, seed, sample, offset, clock)  # 1, 2, 4, 5 per pass
-                       for sample, offset in enumerate(subpixel_offsets(frame.stats.spp, seed))]
+            offsets = subpixel_offsets(frame.stats.spp, seed)
+            # every pass's visibility buffer first: OpenGL's and CUDA's work take turns on the GPU,
+            # so a draw issued after a pass's device work would wait for all of it
+            ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
+            outputs = [self._device(settings, frame, config, seed, sample, offset, ids[sample], clock)  # 1, 2, 4, 5
+                       for sample, offset in enumerate(offsets)]
             composed = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
             clock.lap("develop")
             image = self._post(settings, frame, state, composed, outputs)
@@ -562,6 +566,12 @@ class HybridRenderer:
               clock: "_HostClock | None" = None) -> PassOutput:
         """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
         clock = clock or _HostClock()
+        triangle_id = self._visibility(settings, frame, sample, offset, clock)
+        return self._device(settings, frame, config, seed, sample, offset, triangle_id, clock)
+
+    def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock") -> mi.UInt32:
+        """Stage 1 of one sample pass: the visibility buffer drawn by OpenGL, as a Dr.Jit array
+        (camera rays need none: zeros)."""
         camera = frame.camera
         if settings.primary == "raster":
             if len(self._gl_queries) <= sample:
@@ -572,6 +582,12 @@ class HybridRenderer:
         else:
             triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
         clock.lap("raster")
+        return triangle_id
+
+    def _device(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
+                triangle_id: mi.UInt32, clock: "_HostClock") -> PassOutput:
+        """Stages 1 (on the device) to 5 of one sample pass: the frozen device pass."""
+        camera = frame.camera
         data = PassData(triangle_id=triangle_id, camera=mi.Float(np.r_[offset, camera.eye].astype(np.float32)),
                         seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants,

@@ -1,8 +1,11 @@
 """Where a hybrid frame's time goes: host (Python profile) and device (stage times) (issue 10).
 
-Renders ``--frames`` frames of one still camera after a warm-up, with the host profiled by
-cProfile, and prints the median device time of every stage (``FrameStats.times_ms``), the median
-host issue and frame times, and the host functions that took the most time per frame.
+Renders ``--frames`` frames of one still camera after a warm-up (``--spp`` passes each), with the
+host profiled by cProfile, and prints the median device time of every stage
+(``FrameStats.times_ms``), the median host issue and frame times, the host time by phase, and the
+host functions that took the most time per frame. ``--kernels`` lists the last frame's kernels
+(stage, hash, lanes, operations, device ms); ``--path`` times Mitsuba's ``path`` at 1 spp the same
+way (wall, host issue and its kernels).
 
     python scripts/frame_profile.py scenes/showcase.xml -D showcase_dir=../shared/scenes/cbox
     python3 scripts/frame_profile.py scenes/showcase.xml --variant cuda_ad_rgb -D resx=1280 -D resy=720 ...
@@ -22,6 +25,7 @@ def main() -> None:
     parser.add_argument("scene", type=Path)
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--frames", type=int, default=50)
+    parser.add_argument("--spp", type=int, default=1, help="samples (raster and device passes) per frame")
     parser.add_argument("--primary", default="raster", choices=("raster", "raytrace"))
     parser.add_argument("--candidates", default=None, help="the integrator's candidates ('' for the raster layer alone)")
     parser.add_argument("--top", type=int, default=25)
@@ -40,13 +44,13 @@ def main() -> None:
     scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))
     camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
     props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {})}
-    hi.render_sequence(scene, [camera] * 3, spp=1, layers=False, **props)  # compiles and records
+    hi.render_sequence(scene, [camera] * 3, spp=args.spp, layers=False, **props)  # compiles and records
     profile = cProfile.Profile()
     profile.enable()
-    frames = hi.render_sequence(scene, [camera] * args.frames, spp=1, layers=False, **props)
+    frames = hi.render_sequence(scene, [camera] * args.frames, spp=args.spp, layers=False, **props)
     profile.disable()
     times = {k: statistics.median(f.stats.times_ms[k] for f in frames) for k in frames[0].stats.times_ms}
-    print(f"{args.scene.name} {args.variant} {props}: median ms per frame", {k: round(v, 3) for k, v in times.items()})
+    print(f"{args.scene.name} {args.variant} {props}, {args.spp} spp: median ms per frame", {k: round(v, 3) for k, v in times.items()})
     host = {k: statistics.median(f.stats.host_ms[k] for f in frames) for k in frames[0].stats.host_ms}
     print("median host ms per phase", {k: round(v, 3) for k, v in host.items()}, "readback:", frames[0].stats.readback)
     if args.kernels:
