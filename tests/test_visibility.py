@@ -156,10 +156,36 @@ def test_raster_camera_follows_a_path_set_from_matrices():
         params.update()
         used = cam.RasterCamera.from_sensor(sensor)
         hi.render(scene, spp=1, seed=k, layers=False, denoise=False)  # the frame's own Dr.Jit work
-        kept = dict(cam._CAMERAS)
+        kept, traversed = dict(cam._CAMERAS), dict(cam._PARAMETERS)
         cam._CAMERAS.clear()
+        cam._PARAMETERS.clear()
         fresh = cam.RasterCamera.from_sensor(sensor)
         cam._CAMERAS.clear()
         cam._CAMERAS.update(kept)
+        cam._PARAMETERS.clear()
+        cam._PARAMETERS.update(traversed)
         stale += not np.allclose(used.world_to_clip, fresh.world_to_clip)
     assert stale == 0
+
+
+def test_raster_camera_sees_parameters_changed_through_another_traversal():
+    """The raster camera traverses a sensor once and keeps what ``mi.traverse`` returned (the
+    sensor's own members): a field of view, principal point and pose set through another
+    traversal and ``update()`` must reach it, as a camera built from scratch sees them."""
+    import hybrid_integrator as hi
+    from hybrid_integrator.raster import camera as cam
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    sensor = scene.sensors()[0]
+    first = cam.RasterCamera.from_sensor(sensor)
+    params = mi.traverse(sensor)
+    params["x_fov"] = 25.0
+    params["principal_point_offset_x"] = 0.1
+    params["to_world"] = mi.ScalarTransform4f().look_at([0.3, 1.0, 4.0], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0])
+    params.update()
+    seen = cam.RasterCamera.from_sensor(sensor)
+    cam._CAMERAS.clear()
+    cam._PARAMETERS.clear()
+    fresh = cam.RasterCamera.from_sensor(sensor)
+    assert not np.allclose(seen.world_to_clip, first.world_to_clip)
+    assert np.allclose(seen.world_to_clip, fresh.world_to_clip) and np.allclose(seen.eye, [0.3, 1.0, 4.0])
