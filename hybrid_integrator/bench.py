@@ -18,7 +18,7 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
-ΔE2000 (``metrics.py``).
+ΔE2000 (``metrics.py``), measured after all the timings, in parallel worker processes.
 
 :func:`run` runs one child process per scene (``hybrid bench --single``): each scene gets a fresh
 Dr.Jit state and the GPU memory of one scene is freed before the next. It then writes the JSON, the tables (Table 3 and Table 4
@@ -34,7 +34,7 @@ import re
 import statistics
 import subprocess
 import sys
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import mitsuba as mi
@@ -115,15 +115,17 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     sensor = scene.sensors()[0]
     camera = mi.ScalarTransform4f(np.array(mi.traverse(sensor)["to_world"].matrix).reshape(4, 4))
     rows: list[Measurement] = []
+    images: list[np.ndarray] = []  # each row's image: its errors are measured after every timing
+    nan = float("nan")
 
     def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, **extra) -> Measurement:
         props = {"freeze": freeze, **properties, **extra}
         results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                      layers=False, **props)[warmup:]
-        error = _error(np.array(results[-1].image, dtype=np.float32)[..., :3], reference)
+        images.append(np.array(results[-1].image, dtype=np.float32)[..., :3])
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
-                          [s.times_ms["total"] for s in stats], error.flip, error.rel_mse, error.delta_e2000, frame_spp or spp,
+                          [s.times_ms["total"] for s in stats], nan, nan, nan, frame_spp or spp,
                           {k: statistics.median(s.times_ms[k] for s in stats) for k in stats[0].times_ms},
                           extra.get("budget_ms"), statistics.median(s.pixels_traced for s in stats),
                           statistics.median(s.secondary_rays for s in stats),
@@ -150,9 +152,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     def path(method: str, path_spp: int) -> Measurement:
         image, times = timed_path(scene, path_spp, max_depth, seed, repeats=min(frames, 3))
-        error = _error(image, reference)
-        rows.append(Measurement(method, "path", statistics.median(times), times, error.flip, error.rel_mse,
-                                error.delta_e2000, path_spp))
+        images.append(image)
+        rows.append(Measurement(method, "path", statistics.median(times), times, nan, nan, nan, path_spp))
         return rows[-1]
 
     equal_time = None
@@ -164,16 +165,19 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         per_spp = max((last.time_ms - first.time_ms) / max(last.spp - first.spp, 1), 0.1 * last.time_ms / last.spp)
         fixed = max(first.time_ms - per_spp * first.spp, 0.0)
         # at most 16× the curve's last point: further out the line is a guess
-        equal = path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
-        equal_time = {"spp": equal.spp, "time_ms": equal.time_ms, "flip": equal.flip}
+        path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
         # the history's frames, all of them, against path given their total time
         total = history.time_ms * history.frames_accumulated
         path("path@history-time", int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
         for s in (1, 2, 4):  # path + the same denoiser
             image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=min(frames, 3))
-            error = _error(image, reference)
+            images.append(image)
             rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
-                                    error.flip, error.rel_mse, error.delta_e2000, s))
+                                    nan, nan, nan, s))
+        rows[:] = [replace(row, flip=e.flip, rel_mse=e.rel_mse, delta_e2000=e.delta_e2000)
+                   for row, e in zip(rows, _errors(images, reference))]
+        equal = next(row for row in rows if row.method == "path@equal-time")
+        equal_time = {"spp": equal.spp, "time_ms": equal.time_ms, "flip": equal.flip}
 
     film = sensor.film().size()
     meshes = [sh for sh in scene.shapes() if isinstance(sh, mi.Mesh)]
@@ -191,11 +195,22 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     }
 
 
-def _error(image: np.ndarray, reference: np.ndarray | None) -> ImageError:
-    """The image's error against the ground truth; NaN without one (a scaling point)."""
-    if reference is None:
-        return ImageError(float("nan"), float("nan"), float("nan"))
+def _error(image: np.ndarray, reference: np.ndarray) -> ImageError:
+    """The image's error against the ground truth (in a worker process of :func:`_errors`)."""
     return image_error(image, reference)[0]
+
+
+def _errors(images: list[np.ndarray], reference: np.ndarray) -> list[ImageError]:
+    """Each image's error against the ground truth, measured after the timings (so that they do
+    not share the host with a timed frame) and in parallel: HDR-FLIP and ΔE2000 take seconds per
+    1280×720 image on one core."""
+    import multiprocessing
+    import os
+    from concurrent.futures import ProcessPoolExecutor
+
+    workers = max(1, min(len(images), os.cpu_count() or 1))
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return list(pool.map(_error, images, [reference] * len(images)))
 
 
 def _device() -> str:
