@@ -42,7 +42,7 @@ import numpy as np
 
 from .compare import ground_truth, timed_path, timed_path_denoised
 from .errors import HybridError
-from .metrics import ImageError, image_error
+from .metrics import errors_in_parallel
 from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
 from .scene import load_scene
@@ -115,14 +115,14 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     sensor = scene.sensors()[0]
     camera = mi.ScalarTransform4f(np.array(mi.traverse(sensor)["to_world"].matrix).reshape(4, 4))
     rows: list[Measurement] = []
-    images: list[np.ndarray] = []  # each row's image: its errors are measured after every timing
+    images: list = []  # each row's image: its errors are measured after every timing
     nan = float("nan")
 
     def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, **extra) -> Measurement:
         props = {"freeze": freeze, **properties, **extra}
         results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                      layers=False, **props)[warmup:]
-        images.append(np.array(results[-1].image, dtype=np.float32)[..., :3])
+        images.append(results[-1].image)  # read back only where errors are measured
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
                           [s.times_ms["total"] for s in stats], nan, nan, nan, frame_spp or spp,
@@ -174,8 +174,10 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
             images.append(image)
             rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
                                     nan, nan, nan, s))
+        # the errors after every timing: their workers take every core
+        tests = [np.array(image, dtype=np.float32)[..., :3] for image in images]
         rows[:] = [replace(row, flip=e.flip, rel_mse=e.rel_mse, delta_e2000=e.delta_e2000)
-                   for row, e in zip(rows, _errors(images, reference))]
+                   for row, e in zip(rows, errors_in_parallel(tests, [reference] * len(tests)))]
         equal = next(row for row in rows if row.method == "path@equal-time")
         equal_time = {"spp": equal.spp, "time_ms": equal.time_ms, "flip": equal.flip}
 
@@ -193,24 +195,6 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "all_candidates_trace_ms": trace_all,
         "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
     }
-
-
-def _error(image: np.ndarray, reference: np.ndarray) -> ImageError:
-    """The image's error against the ground truth (in a worker process of :func:`_errors`)."""
-    return image_error(image, reference)[0]
-
-
-def _errors(images: list[np.ndarray], reference: np.ndarray) -> list[ImageError]:
-    """Each image's error against the ground truth, measured after the timings (so that they do
-    not share the host with a timed frame) and in parallel: HDR-FLIP and ΔE2000 take seconds per
-    1280×720 image on one core."""
-    import multiprocessing
-    import os
-    from concurrent.futures import ProcessPoolExecutor
-
-    workers = max(1, min(len(images), os.cpu_count() or 1))
-    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-        return list(pool.map(_error, images, [reference] * len(images)))
 
 
 def _device() -> str:

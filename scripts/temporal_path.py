@@ -15,22 +15,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import multiprocessing
-import os
 import statistics
 import sys
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-
-
-def _flip(test, reference) -> float:
-    """Mean HDR-FLIP of one frame against its reference (in a worker process)."""
-    from hybrid_integrator.metrics import flip_map
-
-    return flip_map(test, reference)[1]
 
 
 def main() -> int:
@@ -54,6 +44,7 @@ def main() -> int:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator.bench import load_bench_scene
+    from hybrid_integrator.metrics import errors_in_parallel
 
     scene, name = load_bench_scene(args.scene, dict(d.split("=", 1) for d in args.defines))
     start = np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4)
@@ -76,10 +67,8 @@ def main() -> int:
         truths.append(np.array(mi.render(scene, integrator=path, spp=args.ref_spp, seed=10_000 + k))[..., :3])
     params["to_world"] = mi.ScalarTransform4f(start)
     params.update()
-    # HDR-FLIP takes seconds per 1280×720 image on one core: the pairs are compared in parallel
-    pairs = [(np.array(frames[k].image)[..., :3], truths[k]) for frames in runs.values() for k in range(len(cameras))]
-    with ProcessPoolExecutor(max_workers=os.cpu_count(), mp_context=multiprocessing.get_context("spawn")) as pool:
-        flips = list(tqdm(pool.map(_flip, *zip(*pairs)), total=len(pairs), desc=f"{name}: FLIP"))
+    tests = [np.array(frames[k].image)[..., :3] for frames in runs.values() for k in range(len(cameras))]
+    flips = errors_in_parallel(tests, truths * len(runs), flip_only=True)
     rows = [{"frame": k, **{f"flip {label}": flips[j * len(cameras) + k] for j, label in enumerate(runs)},
              **{f"ms {label}": frames[k].stats.times_ms["total"] for label, frames in runs.items()}}
             for k in range(len(cameras))]

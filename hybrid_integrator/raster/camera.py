@@ -26,24 +26,23 @@ from ..errors import UnsupportedSceneError
 
 SUPPORTED_SENSORS = ("PerspectiveCamera", "OrthographicCamera")
 
-#: the last camera built for each sensor (by ``id``), with the parameters it was built from
-_CAMERAS: dict[int, tuple[tuple, list, "RasterCamera"]] = {}
+@dataclass
+class _Kept:
+    """What is kept per sensor: its ``mi.traverse``, made once (~0.1 ms a frame otherwise; the
+    values it holds are the sensor's own members, which a ``params.update()`` changes in place, so
+    they stay current), and the last camera built, with the key of the parameters it was built
+    from. The sensor is held too, so that its ``id`` is not reused while this is kept."""
+
+    sensor: mi.Sensor
+    params: mi.SceneParameters
+    key: tuple | None = None
+    values: list | None = None  # copies of the parameters of ``key``: they keep its indices in use
+    camera: "RasterCamera | None" = None
+
+
+#: per sensor (by ``id``), the oldest first
+_CAMERAS: dict[int, _Kept] = {}
 _CAMERAS_KEPT = 16
-
-
-#: ``mi.traverse`` of each sensor, made once (~0.1 ms a frame otherwise): the values it holds are
-#: the sensor's own members, which a ``params.update()`` changes in place, so they stay current.
-#: The sensor is held with them, so that its ``id`` is not reused while they are kept
-_PARAMETERS: dict[int, tuple[mi.Sensor, mi.SceneParameters]] = {}
-
-
-def _sensor_parameters(sensor: mi.Sensor) -> mi.SceneParameters:
-    kept = _PARAMETERS.get(id(sensor))
-    if kept is None:
-        kept = _PARAMETERS[id(sensor)] = (sensor, mi.traverse(sensor))
-        while len(_PARAMETERS) > _CAMERAS_KEPT:  # the oldest first
-            del _PARAMETERS[next(iter(_PARAMETERS))]
-    return kept[1]
 
 
 @dataclass(frozen=True)
@@ -80,7 +79,12 @@ class RasterCamera:
             raise UnsupportedSceneError(
                 f"film crop window (offset {tuple(crop_offset)}, size {tuple(crop_size)} of "
                 f"{tuple(size)}) is not supported: render the full film")
-        params = _sensor_parameters(sensor)
+        kept = _CAMERAS.get(id(sensor))
+        if kept is None:
+            kept = _CAMERAS[id(sensor)] = _Kept(sensor, mi.traverse(sensor))
+            while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
+                del _CAMERAS[next(iter(_CAMERAS))]
+        params = kept.params
         orthographic = kind == "OrthographicCamera"
         names = ("to_world",) if orthographic else ("x_fov", "principal_point_offset_x", "principal_point_offset_y",
                                                     "to_world")
@@ -92,9 +96,8 @@ class RasterCamera:
         values = [type(v)(v) for v in (params[k] for k in names)]
         near, far = sensor.near_clip(), sensor.far_clip()
         key = (tuple(size), near, far, tuple(dr.detail.collect_indices(values)))
-        cached = _CAMERAS.get(id(sensor))
-        if cached is not None and cached[0] == key:
-            return cached[2]
+        if kept.key == key:
+            return kept.camera
         camera_to_world = transform_matrix(values[-1])
         if orthographic:  # Mitsuba's orthographic sensor: its to_world scales the view volume
             ppx = ppy = 0.0
@@ -111,9 +114,7 @@ class RasterCamera:
         camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
                      eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far),
                      orthographic=orthographic, depth_row=world_to_camera[2].copy())
-        _CAMERAS[id(sensor)] = (key, values, camera)
-        while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
-            del _CAMERAS[next(iter(_CAMERAS))]
+        kept.key, kept.values, kept.camera = key, values, camera
         return camera
 
     def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
