@@ -145,21 +145,32 @@ class FrameState:
     coverage: object | None = None
     #: the accumulated frames (``temporal.History``), with ``temporal`` on
     history: object | None = None
-    #: per object, the error per traced pixel that tracing removed (heuristic.py, relevance="error")
-    error_per_pixel: np.ndarray = field(default_factory=lambda: np.empty(0))
+    #: per object, the mean square of the error tracing removed, per traced pixel (heuristic.py,
+    #: relevance="error"); an estimate that may come out below zero where that error is ~0
+    error_squared: np.ndarray = field(default_factory=lambda: np.empty(0))
     #: per object, the learnt ambient irradiance E (lighting.learn_ambient), RGB (objects × 3)
     ambient: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
 
+    @property
+    def error_per_pixel(self) -> np.ndarray:
+        """Per object, E_k of heuristic.py: the root of the learnt mean square error (NaN: never
+        traced)."""
+        return np.sqrt(np.maximum(self.error_squared, 0.0))
+
     def learn(self, index: np.ndarray, pixels: np.ndarray, rays: np.ndarray, error_sums: np.ndarray,
-              smoothing: float = 0.5) -> None:
+              pairs: np.ndarray, smoothing: float = 0.5) -> None:
         """One frame's traced objects ``index``: their traced pixels, rays by kind (rows, KINDS
-        order) and error sums, averaged into what was learnt before (``smoothing``: the weight of
-        the past)."""
+        order), and the sums of their error products over ``pairs`` adjacent traced pixels
+        (``heuristic.add_error``), averaged into what was learnt before (``smoothing``: the weight
+        of the past)."""
         seen = pixels > 0
         index, pixels = index[seen], pixels[seen].astype(np.float64)
         if len(index):
             self.rays_per_pixel = blend_rows(self.rays_per_pixel, index, rays[seen] / pixels[:, None], smoothing)
-            self.error_per_pixel = blend_rows(self.error_per_pixel, index, error_sums[seen] / pixels, smoothing)
+        paired = pairs[seen] > 0  # an object one pixel wide has no pair: nothing learnt this frame
+        if paired.any():
+            self.error_squared = blend_rows(self.error_squared, index[paired],
+                                            error_sums[seen][paired] / pairs[seen][paired], smoothing)
 
 
 @dataclass

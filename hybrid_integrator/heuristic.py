@@ -30,13 +30,18 @@ non-candidates; ``""`` means none.
 **Relevance by the error tracing removes** (``relevance="error"``, the default). Eq. 1 ranks
 objects by how much of the screen they cover, not by how wrong their raster layer is: a large
 diffuse floor outranks a small glass object whose raster pixels are far from the truth. So each
-frame also measures, per traced object, E_k: the mean over its traced pixels of
-``|τ(traced) − τ(raster)|``, the difference between its exact and its cheap estimate in
-tone-mapped luminance (τ(x) = Y/(1+Y), so that a bright highlight does not outweigh a whole
-shadow); it is learnt across frames (``FrameState.error_per_pixel``, an average that halves the
-weight of the past each frame). Then **R_k = S_k · I + V_k · E_k / Ē**, Ē the mean of the learnt
-E over the scene's objects, an object never traced yet taking Ē (so that it is tried). With
-``relevance="area"``, R is the paper's eq. 3.
+frame also measures, per traced object, E_k: how far its exact estimate lies from its cheap one,
+in tone-mapped luminance (τ(x) = Y/(1+Y), so that a bright highlight does not outweigh a whole
+shadow). The difference d = τ(traced) − τ(raster) of one pixel at 1 spp is that *bias* b plus the
+trace's noise, and the noise (which the denoiser or the history removes, not the choice to
+trace) would dominate a mean of |d|: on the Armadillo's floor it is five times the bias. Two
+neighbouring pixels trace independent random numbers, so the product of their d has expectation
+b_i·b_j ≈ b² wherever the bias varies slowly across a pixel: E_k is the root of the mean of
+d_i·d_{i+1} over the object's horizontally adjacent pairs of traced pixels (a mean square bias,
+unbiased by the noise). The mean square is learnt across frames (``FrameState.error_squared``,
+an average that halves the weight of the past each frame). Then **R_k = S_k · I + V_k · E_k / Ē**, Ē the
+mean of the learnt E over the scene's objects, an object never traced yet taking Ē (so that it
+is tried). With ``relevance="area"``, R is the paper's eq. 3.
 """
 from __future__ import annotations
 
@@ -51,9 +56,10 @@ from .errors import HybridError
 from .objects import scene_objects
 from .selection import EFFECTS as KINDS  # the ray kinds an object may deserve are the effects
 RELEVANCE = ("error", "area")
-#: per-object sums of coverage_sums: pixels, rows, columns, depths, errors, then over traced
-#: pixels the traced − raster residual (R, G, B) and the albedo (R, G, B) (lighting.py)
-BLOCKS = 11
+#: per-object sums of coverage_sums: pixels, rows, columns, depths, the error products
+#: (:func:`add_error`), then over traced pixels the traced − raster residual (R, G, B) and the
+#: albedo (R, G, B) (lighting.py), and the pixel pairs of the error products
+BLOCKS = 12
 PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
 
 
@@ -133,8 +139,9 @@ class ObjectRelevance:
 @dataclass(frozen=True)
 class Coverage:
     """What one visibility buffer says about each object: its pixels, the sums of their row and
-    column centres and of their depths, and over its traced pixels the sum of the error tracing
-    removed (module docstring; zero where it was not traced)."""
+    column centres and of their depths, and over its adjacent pairs of traced pixels the sum of
+    the products that estimate the error tracing removed (module docstring; zero where it was
+    not traced), with the number of those pairs."""
 
     width: int
     height: int
@@ -143,9 +150,10 @@ class Coverage:
     col_sum: np.ndarray
     depth_sum: np.ndarray
     mean_depth: float  # over every hit pixel
-    error_sum: np.ndarray
+    error_sum: np.ndarray  # Σ d_i·d_{i+1} over the pairs
     residual_sum: np.ndarray  # (3, n): Σ traced − raster over traced pixels
     albedo_sum: np.ndarray  # (3, n): Σ albedo over the same pixels
+    pairs: np.ndarray  # adjacent pairs of traced pixels, both of the object
 
     @property
     def any(self) -> bool:
@@ -159,7 +167,7 @@ class Coverage:
         pixels, row_sum, col_sum, depth_sum, error_sum = sums[:5]
         n_hits, total_depth = pixels.sum(), depth_sum.sum()
         return cls(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum,
-                   float(total_depth / n_hits) if n_hits else 0.0, error_sum, sums[5:8], sums[8:11])
+                   float(total_depth / n_hits) if n_hits else 0.0, error_sum, sums[5:8], sums[8:11], sums[11])
 
 
 def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int,
@@ -179,17 +187,25 @@ def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, h
 
 
 def add_error(sums: mi.Float, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color3f, cheap: mi.Color3f,
-              base: mi.Color3f, albedo: mi.Color3f, n_objects: int) -> None:
-    """Add each traced pixel's ``|τ(exact) − τ(cheap)|`` (module docstring; ``cheap``: the raster
-    layer as composed) to its object's error sum in ``sums`` (:func:`coverage_sums`), and its
-    residual ``exact − base`` (``base``: the raster layer without its learnt ambient term) and
-    albedo, per channel, to the sums that term is fitted from (``lighting.learn_ambient``)."""
+              base: mi.Color3f, albedo: mi.Color3f, n_objects: int, width: int) -> None:
+    """Add to each object's sums in ``sums`` (:func:`coverage_sums`) the products
+    ``d_i·d_{i+1}`` of horizontally adjacent traced pixels of that object, ``d = τ(exact) −
+    τ(cheap)`` (module docstring; ``cheap``: the raster layer as composed; pixels in row-major
+    order, ``width`` per row) and the number of those pairs; and per traced pixel its residual
+    ``exact − base`` (``base``: the raster layer without its learnt ambient term) and albedo, per
+    channel, to the sums that term is fitted from (``lighting.learn_ambient``)."""
     def tone(c):
         y = mi.luminance(c)
         return y / (1.0 + y)
 
     n = max(n_objects, 1)
-    dr.scatter_reduce(dr.ReduceOp.Add, sums, dr.abs(tone(exact) - tone(cheap)), 4 * n + obj, traced)
+    d = dr.select(traced, tone(exact) - tone(cheap), 0.0)
+    pixel = dr.arange(mi.UInt32, dr.width(traced))
+    right = pixel + 1
+    pair = traced & (pixel % width != width - 1)
+    pair &= dr.gather(mi.Bool, traced, right, pair) & (dr.gather(mi.UInt32, obj, right, pair) == obj)
+    dr.scatter_reduce(dr.ReduceOp.Add, sums, d * dr.gather(mi.Float, d, right, pair), 4 * n + obj, pair)
+    dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, 11 * n + obj, pair)
     for c in range(3):
         dr.scatter_reduce(dr.ReduceOp.Add, sums, exact[c] - base[c], (5 + c) * n + obj, traced)
         dr.scatter_reduce(dr.ReduceOp.Add, sums, albedo[c], (8 + c) * n + obj, traced)

@@ -343,7 +343,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
                                static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                n_objects=static.n_objects, first_effects=static.configs,
                                first_config=selection.config)
-    add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects)  # what tracing changed
+    add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects, w)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
@@ -658,9 +658,10 @@ class HybridRenderer:
             elif len(c):
                 state.cost_model.forget_slowest()
         if len(ordered):
-            errors, residual, albedo = (sum(getattr(c, name) for c in covs) for name in ("error_sum", "residual_sum", "albedo_sum"))
+            errors, pairs, residual, albedo = (sum(getattr(c, name) for c in covs)
+                                               for name in ("error_sum", "pairs", "residual_sum", "albedo_sum"))
             pixels = cov.pixels[ordered] * len(passes)
-            state.learn(ordered, pixels, per_object[ordered], errors[ordered])
+            state.learn(ordered, pixels, per_object[ordered], errors[ordered], pairs[ordered])
             if settings.learn_ambient:
                 state.ambient = learn_ambient(state.ambient, ordered, residual[:, ordered].T, albedo[:, ordered].T, pixels)
         stats.selected = tuple(self.objects.names[k] for k in ordered.tolist())

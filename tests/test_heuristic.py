@@ -9,7 +9,7 @@ import pytest
 
 import hybrid_integrator as hi
 from hybrid_integrator.budget import CostModel, plan_frame
-from hybrid_integrator.heuristic import candidate_kinds, coverage, object_relevance
+from hybrid_integrator.heuristic import BLOCKS, Coverage, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
 
@@ -53,6 +53,35 @@ def test_equations_1_to_3_and_their_normalization():
     assert a.cost == pytest.approx(a.visibility * 8.0)
     # eq. 3: S·I + V, b was selected last frame
     assert a.relevance == pytest.approx(a.visibility) and b.relevance == pytest.approx(0.5 + b.visibility)
+
+
+def test_error_estimate_sees_bias_not_noise():
+    """E_k (relevance="error") from a frame's traced pixels: zero-mean noise of each pixel's own
+    (a 1-spp trace whose raster layer is right on average) gives E ≈ 0, however loud; a bias b
+    gives E ≈ b, the noise on top; pairs never straddle two objects or a row's end."""
+    rng = np.random.default_rng(3)
+    h, w = 64, 96
+    obj = np.zeros((h, w), dtype=np.uint32)
+    obj[:, w // 2:] = 1  # object 0: left half, right only noise; object 1: right half, biased
+    cheap = np.full((h, w), 0.5)
+    tone = lambda y: y / (1.0 + y)
+    bias = 0.2  # in tone-mapped luminance, on object 1
+    target = tone(cheap) + np.where(obj == 1, bias, 0.0)
+    traced_tone = np.clip(target + rng.normal(0.0, 0.15, (h, w)), 0.01, 0.99)  # a grey pixel's luminance is its value
+    exact = traced_tone / (1.0 - traced_tone)
+    def color(y):
+        return mi.Color3f(*(mi.Float(y.ravel().astype(np.float32)) for _ in range(3)))
+    n = 2
+    sums = mi.Float(np.zeros(BLOCKS * n, dtype=np.float32))
+    traced = mi.Bool(np.ones(h * w, dtype=bool))
+    add_error(sums, mi.UInt32(obj.ravel()), traced, color(exact), color(cheap), color(cheap), color(cheap), n, w)
+    cov = Coverage.of(sums, w, h, n)
+    assert cov.pairs.tolist() == [h * (w // 2 - 1)] * 2
+    measured = np.sqrt(np.maximum(cov.error_sum / cov.pairs, 0.0))
+    noise = np.abs(tone(exact) - tone(cheap))[obj == 0].mean()  # what a mean of |d| would say
+    true_bias = (tone(exact) - tone(cheap))[obj == 1].mean()
+    assert noise > 0.1 and measured[0] < 0.2 * noise, (noise, measured)
+    assert abs(measured[1] - true_bias) < 0.1 * true_bias, (true_bias, measured)
 
 
 def test_learnt_rays_and_effects_filter():
