@@ -38,6 +38,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--candidates", help="comma list of shape ids to ray trace ('' for none)")
     g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")
     g.add_argument("--max-depth", dest="max_depth", type=int, help="as Mitsuba's path (-1: unlimited)")
+    g.add_argument("--rr-depth", dest="rr_depth", type=int, help="as Mitsuba's path: the depth where Russian roulette starts")
     g.add_argument("--budget-ms", dest="budget_ms", type=float, help="frame-time budget for ray tracing (0: unlimited)")
     g.add_argument("--hide-emitters", dest="hide_emitters", action="store_true", default=None)
     g.add_argument("--denoise", action=argparse.BooleanOptionalAction, default=None,
@@ -48,7 +49,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
 
 
 def _properties(args) -> dict:
-    names = ("primary", "effects", "candidates", "blend", "max_depth", "budget_ms", "hide_emitters", "denoise",
+    names = ("primary", "effects", "candidates", "blend", "max_depth", "rr_depth", "budget_ms", "hide_emitters", "denoise",
              "denoise_quality", "learn_ambient")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 

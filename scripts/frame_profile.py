@@ -28,6 +28,7 @@ def main() -> None:
     parser.add_argument("--spp", type=int, default=1, help="samples (raster and device passes) per frame")
     parser.add_argument("--primary", default="raster", choices=("raster", "raytrace"))
     parser.add_argument("--candidates", default=None, help="the integrator's candidates ('' for the raster layer alone)")
+    parser.add_argument("--rr-depth", type=int, default=None, help="the integrator's rr_depth (default: its own)")
     parser.add_argument("--top", type=int, default=25)
     parser.add_argument("--kernels", action="store_true", help="list the last frame's kernels by stage")
     parser.add_argument("--path", action="store_true", help="also time Mitsuba's path at 1 spp: wall and kernels")
@@ -43,7 +44,8 @@ def main() -> None:
 
     scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))
     camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
-    props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {})}
+    props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {}),
+             **({"rr_depth": args.rr_depth} if args.rr_depth is not None else {})}
     hi.render_sequence(scene, [camera] * 3, spp=args.spp, layers=False, **props)  # compiles and records
     profile = cProfile.Profile()
     profile.enable()
