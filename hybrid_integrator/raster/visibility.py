@@ -133,7 +133,7 @@ class Rasterizer:
         """The target of :meth:`render` as a Dr.Jit array (as :meth:`read_ids` lays it out), without
         crossing the host where CUDA–OpenGL interop works (``interop.Readback``)."""
         if self._readback is None:
-            self._readback = Readback(self.ctx)
+            self._readback = Readback()
         return self._readback.ids(fbo, self.read_ids)
 
     @property
