@@ -139,38 +139,42 @@ class FrameState:
 
     selected: set[int] = field(default_factory=set)
     cost_model: CostModel = field(default_factory=CostModel)
-    #: per object, the secondary rays per traced pixel by kind (objects × KINDS)
+    #: per row (``heuristic.Candidates.keys``: an object, or its shadow tier), the secondary rays
+    #: per traced pixel by kind (rows × KINDS)
     rays_per_pixel: np.ndarray = field(default_factory=lambda: np.empty((0, len(KINDS))))
     #: the objects' coverage in the last frame (``heuristic.Coverage``): what the next frame plans from
     coverage: object | None = None
     #: the accumulated frames (``temporal.History``), with ``temporal`` on
     history: object | None = None
-    #: per object, the mean square of the error tracing removed, per traced pixel (heuristic.py,
+    #: per row, the mean square of the error tracing removed, per traced pixel (heuristic.py,
     #: relevance="error"); an estimate that may come out below zero where that error is ~0
     error_squared: np.ndarray = field(default_factory=lambda: np.empty(0))
     #: per object, the learnt ambient irradiance E (lighting.learn_ambient), RGB (objects × 3)
     ambient: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
+    #: per object, the learnt indirect irradiance that its shadow tier adds (lighting.py), RGB
+    indirect: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
 
     @property
     def error_per_pixel(self) -> np.ndarray:
-        """Per object, E_k of heuristic.py: the root of the learnt mean square error (NaN: never
+        """Per row, E_k of heuristic.py: the root of the learnt mean square error (NaN: never
         traced)."""
         return np.sqrt(np.maximum(self.error_squared, 0.0))
 
-    def learn(self, index: np.ndarray, pixels: np.ndarray, rays: np.ndarray, error_sums: np.ndarray,
-              pairs: np.ndarray, smoothing: float = 0.5) -> None:
-        """One frame's traced objects ``index``: their traced pixels, rays by kind (rows, KINDS
-        order), and the sums of their error products over ``pairs`` adjacent traced pixels
-        (``heuristic.add_error``), averaged into what was learnt before (``smoothing``: the weight
+    def learn_rays(self, keys: np.ndarray, pixels: np.ndarray, rays: np.ndarray, smoothing: float = 0.5) -> None:
+        """One frame's traced rows ``keys`` (``heuristic.Candidates.keys``): their traced pixels and
+        rays by kind (KINDS order), averaged into what was learnt before (``smoothing``: the weight
         of the past)."""
         seen = pixels > 0
-        index, pixels = index[seen], pixels[seen].astype(np.float64)
-        if len(index):
-            self.rays_per_pixel = blend_rows(self.rays_per_pixel, index, rays[seen] / pixels[:, None], smoothing)
-        paired = pairs[seen] > 0  # an object one pixel wide has no pair: nothing learnt this frame
+        if seen.any():
+            self.rays_per_pixel = blend_rows(self.rays_per_pixel, keys[seen],
+                                             rays[seen] / pixels[seen, None].astype(np.float64), smoothing)
+
+    def learn_errors(self, keys: np.ndarray, error_sums: np.ndarray, pairs: np.ndarray, smoothing: float = 0.5) -> None:
+        """The rows ``keys``' sums of error products over ``pairs`` adjacent traced pixels
+        (``heuristic.add_error``; a mean square error per row), averaged into what was learnt."""
+        paired = pairs > 0  # an object one pixel wide has no pair: nothing learnt this frame
         if paired.any():
-            self.error_squared = blend_rows(self.error_squared, index[paired],
-                                            error_sums[seen][paired] / pairs[seen][paired], smoothing)
+            self.error_squared = blend_rows(self.error_squared, keys[paired], error_sums[paired] / pairs[paired], smoothing)
 
 
 @dataclass
@@ -190,6 +194,9 @@ class FramePlan:
 
 def _plan(c: Candidates, picked: np.ndarray, budget: float) -> FramePlan:
     picked = np.asarray(picked, dtype=np.int64)
+    # an object picked whole and by its shadow tier is traced whole: the tier's rays are part of it
+    whole = c.index[picked][~c.tier[picked]]
+    picked = picked[~(c.tier[picked] & np.isin(c.index[picked], whole))]
     return FramePlan(c, picked, c.rays_of(picked), budget)
 
 
@@ -200,14 +207,16 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     Unlimited budget: every visible candidate. With a budget: the selector picks within the
     per-pass budget less the launch cost of the trace call, except while the cost model is not
     yet calibrated, when the 1, 2, then 4 most relevant objects are traced, whatever the budget
-    (probes that measure the machine). ``nested`` and ``greedy`` run on the arrays; ``graph``
-    and ``exact`` (yardsticks) on one node per candidate (``selection_graph``)."""
+    (probes that measure the machine; whole objects, not shadow tiers). ``nested`` and ``greedy``
+    run on the arrays; ``graph`` and ``exact`` (yardsticks) on one node per candidate
+    (``selection_graph``)."""
     c = objects if isinstance(objects, Candidates) else _as_candidates(objects)
     if budget_ms <= 0:
         return _plan(c, np.arange(len(c)), float("inf"))
     pass_budget = budget_ms / max(spp, 1)
-    if not model.calibrated:  # probes of 1, 2, 4 objects: different ray counts separate t0 from the rates
-        return _plan(c, np.argsort(-c.relevance, kind="stable")[:2 ** len(model.history)], pass_budget)
+    if not model.calibrated:  # probes of 1, 2, 4 whole objects: different ray counts separate t0 from the rates
+        whole = np.nonzero(~c.tier)[0]
+        return _plan(c, whole[np.argsort(-c.relevance[whole], kind="stable")][:2 ** len(model.history)], pass_budget)
     room = pass_budget - model.launch()
     if room <= 0 or not len(c):
         return _plan(c, [], pass_budget)

@@ -46,11 +46,13 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--denoise-quality", dest="denoise_quality", choices=("fast", "balanced", "high"))
     g.add_argument("--learn-ambient", dest="learn_ambient", action=argparse.BooleanOptionalAction, default=None,
                    help="add each object's ambient light learnt from its traced pixels to the raster layer (default: on)")
+    g.add_argument("--shadow-tier", dest="shadow_tier", action=argparse.BooleanOptionalAction, default=None,
+                   help="with a budget, diffuse objects may be traced by their shadow rays alone (default: on)")
 
 
 def _properties(args) -> dict:
     names = ("primary", "effects", "candidates", "blend", "max_depth", "rr_depth", "budget_ms", "hide_emitters", "denoise",
-             "denoise_quality", "learn_ambient")
+             "denoise_quality", "learn_ambient", "shadow_tier")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 
 

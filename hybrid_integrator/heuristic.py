@@ -42,6 +42,19 @@ unbiased by the noise). The mean square is learnt across frames (``FrameState.er
 an average that halves the weight of the past each frame). Then **R_k = S_k · I + V_k · E_k / Ē**, Ē the
 mean of the learnt E over the scene's objects, an object never traced yet taking Ē (so that it
 is tried). With ``relevance="area"``, R is the paper's eq. 3.
+
+**Shadow tiers** (with a budget and ``relevance="error"``). Tracing an object is all or nothing
+per effect set, and a diffuse object's full paths cost several rays per pixel, while the raster
+layer's largest error on it is often only its missing shadows. So such an object has a second,
+cheaper row: its shadow tier, which traces the object's shadow rays alone (direct light from
+every emitter, with visibility) and adds the indirect light from a learnt term, per object
+``albedo × E_ind``, E_ind fitted from the paths of the frames that traced it whole (traced light
+minus its first vertex's, per albedo: ``lighting.learn_ambient`` on those sums). What the tier
+removes is not what it changes: its indirect term is a model. So its E is measured where the
+object is traced whole, against the tier's own estimate there (the first vertex's light + the
+learnt term): E_tier² = E² − (mean of t_i·t_{i+1}, t = τ(traced) − τ(tier estimate)), the
+error the tier leaves subtracted from the error the raster layer leaves; a tier never measured
+so is worth nothing, and one that leaves as much error as the raster layer is never picked.
 """
 from __future__ import annotations
 
@@ -57,9 +70,11 @@ from .objects import scene_objects
 from .selection import EFFECTS as KINDS  # the ray kinds an object may deserve are the effects
 RELEVANCE = ("error", "area")
 #: per-object sums of coverage_sums: pixels, rows, columns, depths, the error products
-#: (:func:`add_error`), then over traced pixels the traced − raster residual (R, G, B) and the
-#: albedo (R, G, B) (lighting.py), and the pixel pairs of the error products
-BLOCKS = 12
+#: (:func:`add_error`), then over pixels traced with every effect the traced − raster residual
+#: (R, G, B) and the albedo (R, G, B) (lighting.py), the pixel pairs of the error products, over
+#: the same pixels the indirect light (R, G, B: traced − its first vertex's direct light), and the
+#: products of the shadow tier's error
+BLOCKS = 16
 PRIOR_RAYS_PER_PIXEL = {"shadow": 1.0, "reflection": 1.0, "refraction": 2.0, "indirect": 1.0}
 
 
@@ -154,6 +169,8 @@ class Coverage:
     residual_sum: np.ndarray  # (3, n): Σ traced − raster over traced pixels
     albedo_sum: np.ndarray  # (3, n): Σ albedo over the same pixels
     pairs: np.ndarray  # adjacent pairs of traced pixels, both of the object
+    indirect_sum: np.ndarray  # (3, n): Σ indirect light over the pixels of ``albedo_sum``
+    tier_error_sum: np.ndarray  # Σ t_i·t_{i+1} over the pairs: the shadow tier's error (add_error)
 
     @property
     def any(self) -> bool:
@@ -167,7 +184,7 @@ class Coverage:
         pixels, row_sum, col_sum, depth_sum, error_sum = sums[:5]
         n_hits, total_depth = pixels.sum(), depth_sum.sum()
         return cls(width, height, np.rint(pixels).astype(np.int64), row_sum, col_sum, depth_sum,
-                   float(total_depth / n_hits) if n_hits else 0.0, error_sum, sums[5:8], sums[8:11], sums[11])
+                   float(total_depth / n_hits) if n_hits else 0.0, error_sum, sums[5:8], sums[8:11], sums[11], sums[12:15], sums[15])
 
 
 def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int,
@@ -187,18 +204,25 @@ def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, h
 
 
 def add_error(sums: mi.Float, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color3f, cheap: mi.Color3f,
-              base: mi.Color3f, albedo: mi.Color3f, n_objects: int, width: int) -> None:
+              base: mi.Color3f, albedo: mi.Color3f, n_objects: int, width: int, full: mi.Bool | None = None,
+              direct: mi.Color3f | None = None, tier: mi.Color3f | None = None) -> None:
     """Add to each object's sums in ``sums`` (:func:`coverage_sums`) the products
     ``d_i·d_{i+1}`` of horizontally adjacent traced pixels of that object, ``d = τ(exact) −
     τ(cheap)`` (module docstring; ``cheap``: the raster layer as composed; pixels in row-major
-    order, ``width`` per row) and the number of those pairs; and per traced pixel its residual
-    ``exact − base`` (``base``: the raster layer without its learnt ambient term) and albedo, per
-    channel, to the sums that term is fitted from (``lighting.learn_ambient``)."""
+    order, ``width`` per row) and the number of those pairs. Over the pixels traced with every
+    effect (``full``; default: every traced pixel), per channel, the residual ``exact − base``
+    (``base``: the raster layer without its learnt ambient term) and the albedo, the sums that
+    term is fitted from (``lighting.learn_ambient``), and with ``direct`` (the light of each path's
+    first vertex) the indirect light ``exact − direct``, from which the shadow tier's cheap
+    indirect term is fitted. With ``tier`` (what the shadow tier would show there: ``direct`` + the
+    learnt indirect term), the products ``t_i·t_{i+1}``, ``t = τ(exact) − τ(tier)``: the mean square
+    error the tier leaves (module docstring)."""
     def tone(c):
         y = mi.luminance(c)
         return y / (1.0 + y)
 
     n = max(n_objects, 1)
+    full = traced if full is None else full
     d = dr.select(traced, tone(exact) - tone(cheap), 0.0)
     pixel = dr.arange(mi.UInt32, dr.width(traced))
     right = pixel + 1
@@ -206,9 +230,14 @@ def add_error(sums: mi.Float, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color3f
     pair &= dr.gather(mi.Bool, traced, right, pair) & (dr.gather(mi.UInt32, obj, right, pair) == obj)
     dr.scatter_reduce(dr.ReduceOp.Add, sums, d * dr.gather(mi.Float, d, right, pair), 4 * n + obj, pair)
     dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, 11 * n + obj, pair)
+    if tier is not None:
+        t = dr.select(full, tone(exact) - tone(tier), 0.0)
+        dr.scatter_reduce(dr.ReduceOp.Add, sums, t * dr.gather(mi.Float, t, right, pair), 15 * n + obj, pair)
     for c in range(3):
-        dr.scatter_reduce(dr.ReduceOp.Add, sums, exact[c] - base[c], (5 + c) * n + obj, traced)
-        dr.scatter_reduce(dr.ReduceOp.Add, sums, albedo[c], (8 + c) * n + obj, traced)
+        dr.scatter_reduce(dr.ReduceOp.Add, sums, exact[c] - base[c], (5 + c) * n + obj, full)
+        dr.scatter_reduce(dr.ReduceOp.Add, sums, albedo[c], (8 + c) * n + obj, full)
+        if direct is not None:
+            dr.scatter_reduce(dr.ReduceOp.Add, sums, exact[c] - direct[c], (12 + c) * n + obj, full)
 
 
 def coverage(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, height: int, n_objects: int) -> Coverage:
@@ -229,16 +258,20 @@ class VisibilityTerms:
     candidate: np.ndarray  # bool: a visible object that deserves one of the integrator's effects
 
 
-def error_weights(n_objects: int, errors: np.ndarray | None) -> np.ndarray:
-    """E_k / Ē per object from the learnt errors per pixel (one per object, NaN: never traced;
-    module docstring); all ones without them (``relevance="area"``)."""
-    weights = np.ones(n_objects)
+def error_weights(keys: np.ndarray, errors: np.ndarray | None) -> np.ndarray:
+    """E_k / Ē for the rows ``keys`` of the learnt errors per pixel (NaN: never traced; module
+    docstring), Ē the mean of every learnt row; ones where nothing is learnt (and with
+    ``relevance="area"``, ``errors`` None)."""
+    weights = np.ones(len(keys))
     if errors is not None and len(errors):
-        known = np.asarray(errors[:n_objects], dtype=np.float64)
+        known = np.asarray(errors, dtype=np.float64)
         seen = np.isfinite(known)
         mean = float(known[seen].mean()) if seen.any() else 0.0
         if mean > 0:
-            weights[:len(known)][seen] = known[seen] / mean
+            inside = keys < len(known)
+            value = np.full(len(keys), np.nan)
+            value[inside] = known[keys[inside]]
+            weights = np.where(np.isfinite(value), value / mean, 1.0)
     return weights
 
 
@@ -263,25 +296,35 @@ def visibility_terms(cov: Coverage, active: np.ndarray, selected_last: set[int],
     bonus = np.zeros(len(n))
     last = np.fromiter(selected_last, dtype=np.int64, count=len(selected_last))
     bonus[last[last < len(n)]] = importance
-    relevance = bonus + visibility * error_weights(len(n), errors)
+    relevance = bonus + visibility * error_weights(np.arange(len(n)), errors)
     return VisibilityTerms(area, centrality, distance, visibility, relevance, active.any(axis=1) & (n > 0))
 
 
 @dataclass(frozen=True)
 class Candidates:
-    """The visible candidates of one frame, eq. 1–3 as arrays (a row each, in object order): what
-    the selection reads, without a Python object per candidate (thousands of objects stay well
-    under a millisecond)."""
+    """The visible candidates of one frame, eq. 1–3 as arrays (a row each): what the selection
+    reads, without a Python object per candidate (thousands of objects stay well under a
+    millisecond). An object with a *shadow tier* (:func:`candidates`) has a second row."""
 
     index: np.ndarray  # object indices
     pixels: np.ndarray
     visibility: np.ndarray  # V, eq. 1
     relevance: np.ndarray  # R, eq. 3
     rays: np.ndarray  # Q per kind (KINDS order): the secondary rays each is expected to spawn per pass
-    terms: VisibilityTerms  # A, P, D of every object
+    terms: VisibilityTerms | None  # A, P, D of every object
+    tier: np.ndarray | None = None  # per row: the object's shadow tier (None: no such row)
+
+    def __post_init__(self):
+        if self.tier is None:
+            object.__setattr__(self, "tier", np.zeros(len(self.index), dtype=bool))
 
     def __len__(self) -> int:
         return len(self.index)
+
+    def keys(self, n_objects: int) -> np.ndarray:
+        """Each row's index in the tables learnt per row (``FrameState``): the object's own, or
+        ``n_objects`` + the object's for its shadow tier."""
+        return self.index + n_objects * self.tier
 
     def rays_of(self, rows) -> dict[str, float]:
         """The expected rays of the candidates ``rows`` (an index or mask), summed, by kind."""
@@ -290,20 +333,42 @@ class Candidates:
 
 
 def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], importance: float,
-               rays_table: np.ndarray, errors: np.ndarray | None = None) -> Candidates:
+               rays_table: np.ndarray, errors: np.ndarray | None = None, tiers: np.ndarray | None = None) -> Candidates:
     """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`).
-    ``rays_table`` holds the learnt rays per pixel (objects × kinds, NaN rows: never traced,
-    which take the prior of their own kinds)."""
-    terms = visibility_terms(cov, active, selected_last, importance, errors)
+    ``rays_table`` holds the learnt rays per pixel (rows × kinds, NaN rows: never traced, which
+    take the prior of their own kinds) and ``errors`` the learnt error per row (``relevance="error"``).
+
+    ``tiers`` (per object) marks the objects that also have a **shadow tier**: a second row that
+    traces only their shadow rays and takes their indirect light from the cheap model (the learnt
+    indirect term, ``lighting.py``), at a fraction of the full row's cost. Its terms are learnt in
+    the rows after the objects' (``Candidates.keys``); a larger budget only adds rows, so an
+    object goes from nothing to its shadow tier to every effect."""
+    n = len(cov.pixels)
+    terms = visibility_terms(cov, active, selected_last, importance)
     index = np.nonzero(terms.candidate)[0]
-    prior = active[index] * np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
+    tier = np.zeros(len(index), dtype=bool)
+    if tiers is not None:
+        extra = index[np.asarray(tiers, dtype=bool)[index]]
+        index, tier = np.r_[index, extra], np.r_[tier, np.ones(len(extra), dtype=bool)]
+    keys = index + n * tier
+    weights = error_weights(keys, errors)
+    if errors is not None:  # a tier is worth nothing until measured (module docstring)
+        known = np.zeros(len(keys), dtype=bool)
+        inside = keys < len(errors)
+        known[inside] = np.isfinite(np.asarray(errors, dtype=np.float64)[keys[inside]])
+        weights[tier & ~known] = 0.0
+    shadow = np.array([k == "shadow" for k in KINDS])
+    kinds = np.where(tier[:, None], shadow, active[index])
+    prior = kinds * np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
     learnt = np.full((len(index), len(KINDS)), np.nan)
-    known = index < len(rays_table)
-    learnt[known] = rays_table[index[known]]
+    known = keys < len(rays_table)
+    learnt[known] = rays_table[keys[known]]
     per_pixel = np.where(np.isfinite(learnt).any(axis=1, keepdims=True), np.nan_to_num(learnt), prior)
     pixels = cov.pixels[index]
-    return Candidates(index=index, pixels=pixels, visibility=terms.visibility[index], relevance=terms.relevance[index],
-                      rays=pixels[:, None] * per_pixel, terms=terms)
+    bonus = np.where(np.isin(index, list(selected_last)), importance, 0.0)
+    relevance = bonus + terms.visibility[index] * weights
+    return Candidates(index=index, pixels=pixels, visibility=terms.visibility[index], relevance=relevance,
+                      rays=pixels[:, None] * per_pixel, terms=terms, tier=tier)
 
 
 def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[str],

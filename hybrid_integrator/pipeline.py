@@ -79,6 +79,7 @@ class HybridSettings:
     denoise_quality: str = "fast"
     temporal: bool = False
     learn_ambient: bool = True
+    shadow_tier: bool = True
 
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
@@ -144,6 +145,7 @@ class FrameStats:
     selected: tuple[str, ...] = ()  # objects traced this frame, most relevant first
     relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
     selection_changes: int = 0  # objects traced now but not in the previous frame, or the reverse
+    shadow_only: tuple[str, ...] = ()  # of ``selected``, those traced by their shadow tier (heuristic.candidates)
 
     @property
     def budget_met(self) -> bool:
@@ -256,6 +258,9 @@ class PassStatic:
     background_alpha: bool  # an environment is seen behind the geometry
     n_objects: int
     guides: bool  # splat the denoiser's guides (denoise.py)
+    #: the effect sets (indices into ``configs``) that leave out the indirect light the integrator
+    #: traces: their pixels add the learnt indirect term instead (the shadow tier, heuristic.py)
+    modelled: tuple[int, ...]
     surface: bool  # keep the first pass's surface for the temporal history (temporal.py)
 
 
@@ -271,6 +276,7 @@ class PassData:
     lights: LightTable
     constants: ShapeConstants
     ambient: mi.Float  # per object, the learnt ambient irradiance E (3 floats; lighting.py)
+    indirect: mi.Float  # per object, the learnt indirect irradiance of its shadow tier (3 floats)
 
 
 @dataclass
@@ -339,11 +345,21 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, BLOCKS * n - 1 + hits.refined, hits.refined > 0)
     clock.mark("select", selection.traced, selection.config, sums)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
-    rt, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
-                               static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
-                               n_objects=static.n_objects, first_effects=static.configs,
-                               first_config=selection.config)
-    add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects, w)  # what tracing changed
+    rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
+                                       static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
+                                       n_objects=static.n_objects, first_effects=static.configs,
+                                       first_config=selection.config)
+    full, tier = selection.traced, None
+    if static.modelled:  # pixels traced without their indirect light take the learnt term for it
+        modelled = mi.Bool(False)
+        for k in static.modelled:
+            modelled |= selection.config == k
+        modelled &= selection.traced
+        full = selection.traced & ~modelled
+        rt = with_ambient(rt, albedo, hits.object, modelled, data.indirect)
+        tier = with_ambient(direct, albedo, hits.object, full, data.indirect)  # what a shadow tier would show
+    add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects, w, full=full,
+              direct=direct if static.modelled else None, tier=tier)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
@@ -398,6 +414,9 @@ class _Frame:
     candidates: mi.Int32  # the same on the device (every candidate traced)
     stats: FrameStats
     ambient: mi.Float | None = None  # the learnt ambient table this frame shades with
+    indirect: mi.Float | None = None  # the learnt indirect table of its shadow tiers
+    tiers: np.ndarray | None = None  # per object: it has a shadow tier (heuristic.candidates)
+    tier_config: np.ndarray | None = None  # per object: the shadow tier's effect set index, −1 none
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
@@ -444,8 +463,8 @@ class HybridRenderer:
             dr.kernel_history_clear()
             clock = _HostClock()
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
-            learnt = state.ambient if settings.learn_ambient else state.ambient[:0]
-            frame.ambient = mi.Float(ambient_table(learnt, len(self.objects)).ravel())
+            tables = [t if settings.learn_ambient else t[:0] for t in (state.ambient, state.indirect)]
+            frame.ambient, frame.indirect = (mi.Float(ambient_table(t, len(self.objects)).ravel()) for t in tables)
             clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
             clock.lap("select")
@@ -476,15 +495,15 @@ class HybridRenderer:
         key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
         if key not in self._setups:
             self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
-        static, active, candidate_config, every = self._setups[key]
+        static, active, candidate_config, every, tiers, tier_config = self._setups[key]
         stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
         return _Frame(sensor=sensor, camera=camera, static=static, active=active, stats=stats,
-                      candidate_config=candidate_config, candidates=every)
+                      candidate_config=candidate_config, candidates=every, tiers=tiers, tier_config=tier_config)
 
     def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
-               layers: bool) -> tuple[PassStatic, list, np.ndarray, mi.Int32]:
+               layers: bool) -> tuple[PassStatic, np.ndarray, np.ndarray, mi.Int32, np.ndarray, np.ndarray]:
         kinds = candidate_kinds(settings.candidates, self.scene)
         # the distinct effect sets the candidates deserve, and each object's (-1: not a candidate):
         # fixed for the frame, so that one traced kernel serves every selection. An object that
@@ -494,7 +513,15 @@ class HybridRenderer:
         full = [set(ks) >= set(d) for ks, d in zip(kinds, default_kinds(self.scene))]
         active = [settings.effects if ks and f else tuple(k for k in ks if k in settings.effects)
                   for ks, f in zip(kinds, full)]
-        configs = tuple(sorted({a for a in active if a}))
+        # with a budget, an object with diffuse lobes traced with shadows and indirect light may
+        # also be traced with its shadow rays alone, its indirect light from the learnt term
+        # (heuristic.candidates)
+        shadow_only = ("shadow",)
+        tiered = settings.budget_ms > 0 and settings.shadow_tier and settings.relevance == "error"
+        tiers = np.array([tiered and {"shadow", "indirect"} <= set(a) and "indirect" in d
+                          for a, d in zip(active, default_kinds(self.scene))], dtype=bool)
+        configs = tuple(sorted({a for a in active if a} | ({shadow_only} if tiers.any() else set())))
+        modelled = tuple(k for k, c in enumerate(configs) if "indirect" not in c) if "indirect" in settings.effects else ()
         film = sensor.film()
         static = PassStatic(
             width=camera.width, height=camera.height, primary=settings.primary, effects=settings.effects,
@@ -505,9 +532,10 @@ class HybridRenderer:
             box_filter=settings.denoise or film.rfilter().is_box_filter(),
             has_emitters=len(self.scene.emitters()) > 0,
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
-            n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal)
+            n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
-        return static, active_kinds(kinds, settings.effects), config, mi.Int32(config)
+        tier_config = np.where(tiers, configs.index(shadow_only) if tiers.any() else -1, -1).astype(np.int32)
+        return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers, tier_config
 
     def _post(self, settings: HybridSettings, frame: _Frame, state: FrameState, image: mi.TensorXf,
               outputs: list[PassOutput]) -> mi.TensorXf:
@@ -551,15 +579,17 @@ class HybridRenderer:
             self.clock.frame_times()  # not this frame's work
         plan = self._plan(settings, frame, state, cov)
         config = np.full(len(self.objects), -1, dtype=np.int32)
-        traced = plan.candidates.index[plan.picked]
-        config[traced] = frame.candidate_config[traced]
+        c = plan.candidates
+        tier, whole = (c.index[plan.picked][mask] for mask in (c.tier[plan.picked], ~c.tier[plan.picked]))
+        config[tier] = frame.tier_config[tier]
+        config[whole] = frame.candidate_config[whole]
         frame.traces = bool((config >= 0).any())
         return plan, mi.Int32(config)
 
     def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:
         """Eq. 1–3 from a coverage, then the selection within the budget."""
         c = candidates(cov, frame.active, state.selected, settings.importance, state.rays_per_pixel,
-                       self._errors(settings, state))
+                       self._errors(settings, state), frame.tiers)
         return plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
@@ -591,7 +621,7 @@ class HybridRenderer:
         data = PassData(triangle_id=triangle_id, camera=mi.Float(np.r_[offset, camera.eye].astype(np.float32)),
                         seed=mi.UInt32(np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)), config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants,
-                        ambient=frame.ambient)
+                        ambient=frame.ambient, indirect=frame.indirect)
         # Mitsuba 3.9's orthographic sensor holds a Dr.Jit variable its traversal does not expose,
         # which a frozen function cannot capture ("created before recording was started"): its
         # frames run unfrozen
@@ -634,10 +664,12 @@ class HybridRenderer:
         cov = covs[0]
         if plan is None and not frame.traces:  # no candidate at all: nothing traced, nothing to order
             ordered, planned = np.zeros(0, dtype=np.int64), set()
+            keys = ordered
         elif plan is None:  # no budget: every visible candidate was traced; most relevant first
             terms = visibility_terms(cov, frame.active, state.selected, settings.importance, self._errors(settings, state))
             visible = np.nonzero(terms.candidate)[0]
             ordered = visible[np.argsort(-terms.relevance[visible], kind="stable")]
+            keys = ordered
             planned = set(ordered.tolist())
             stats.candidates_visible = len(ordered)
         else:
@@ -645,9 +677,11 @@ class HybridRenderer:
             picked = np.zeros(len(c), dtype=bool)
             picked[plan.picked] = True
             traced = picked & (cov.pixels[c.index] > 0)
-            ordered = c.index[traced][np.argsort(-c.relevance[traced], kind="stable")]
+            rows = np.nonzero(traced)[0][np.argsort(-c.relevance[traced], kind="stable")]
+            ordered, keys = c.index[rows], c.keys(len(self.objects))[rows]
+            stats.shadow_only = tuple(self.objects.names[k] for k in c.index[rows[c.tier[rows]]].tolist())
             planned = plan.traced
-            total = float(c.relevance.sum())
+            total = float(c.relevance[~c.tier].sum())  # every object whole: all there is to capture
             stats.candidates_visible = len(c)
             stats.relevance_captured = float(c.relevance[traced].sum() / total) if total > 0 else 1.0
             stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if planned else 0.0
@@ -658,12 +692,20 @@ class HybridRenderer:
             elif len(c):
                 state.cost_model.forget_slowest()
         if len(ordered):
-            errors, pairs, residual, albedo = (sum(getattr(c, name) for c in covs)
-                                               for name in ("error_sum", "pairs", "residual_sum", "albedo_sum"))
+            errors, pairs, residual, albedo, indirect, tier_errors = (
+                sum(getattr(c, name) for c in covs)
+                for name in ("error_sum", "pairs", "residual_sum", "albedo_sum", "indirect_sum", "tier_error_sum"))
             pixels = cov.pixels[ordered] * len(passes)
-            state.learn(ordered, pixels, per_object[ordered], errors[ordered], pairs[ordered])
-            if settings.learn_ambient:
+            state.learn_rays(keys, pixels, per_object[ordered])
+            n = len(self.objects)
+            whole = ordered[keys < n]  # errors are learnt where an object is traced whole (heuristic.py)
+            state.learn_errors(whole, errors[whole], pairs[whole])
+            tiered = whole[frame.tiers[whole]]
+            state.learn_errors(n + tiered, errors[tiered] - tier_errors[tiered], pairs[tiered])
+            if settings.learn_ambient:  # both terms from the pixels traced with every effect alone
                 state.ambient = learn_ambient(state.ambient, ordered, residual[:, ordered].T, albedo[:, ordered].T, pixels)
+                if frame.static.modelled:  # the trace returned each path's first vertex apart
+                    state.indirect = learn_ambient(state.indirect, ordered, indirect[:, ordered].T, albedo[:, ordered].T, pixels)
         stats.selected = tuple(self.objects.names[k] for k in ordered.tolist())
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)

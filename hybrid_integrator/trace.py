@@ -74,9 +74,12 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool, *,
                   seed: mi.UInt64, obj: mi.UInt32, n_objects: int,
                   first_effects: tuple[tuple[str, ...], ...] | None = None,
-                  first_config: mi.UInt32 | None = None) -> tuple[mi.Color3f, TraceCounts]:
+                  first_config: mi.UInt32 | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
+    Also returns the light of each path's first vertex alone (its emission and direct light, both
+    MIS strategies), where the primary vertex is not the loop's first iteration (otherwise
+    ``None``): radiance − that is the pixel's indirect light.
 
     The rays spawned at the primary hit are the kinds its object deserves (§4.1): pixel ``i``
     uses ``first_effects[first_config[i]]`` (default: ``effects`` everywhere), so objects with
@@ -86,7 +89,7 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     n = dr.width(traced)
     width = max(n_objects, 1)
     if first_effects == ():  # no object deserves any effect: nothing can be traced
-        return dr.zeros(mi.Color3f, n), TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
+        return dr.zeros(mi.Color3f, n), None, TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
     pixel, active, slot = compact(traced)  # only the selected pixels are traced: cost follows the selection
     ray = dr.gather(mi.Ray3f, ray, pixel, active)
     si = dr.gather(mi.SurfaceInteraction3f, si, pixel, active)
@@ -101,15 +104,17 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     s = dr.gather(mi.UInt64, seed, 0)
     key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
     rng.seed(mi.sample_tea_64(pixel, key), mi.UInt64(pixel))
-    L, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
-    dr.eval(L, rays)  # one kernel: the loop runs once for both
+    L, first_light, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth,
+                                  hide_emitters)
+    dr.eval(L, first_light, rays)  # one kernel: the loop runs once for all
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
+    direct = None if first_light is None else dr.select(traced, dr.gather(mi.Color3f, first_light, slot, traced), 0.0)
     objects = dr.gather(mi.UInt32, obj, pixel, active)
     per_object = dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1)
     for k, r in enumerate(rays):
         dr.scatter_reduce(dr.ReduceOp.Add, per_object, r, k * width + objects, active)
     dr.scatter_reduce(dr.ReduceOp.Add, per_object, 1, len(RAY_KINDS) * width, active)
-    return radiance, TraceCounts(per_object=per_object)
+    return radiance, direct, TraceCounts(per_object=per_object)
 
 
 @dataclass
@@ -224,8 +229,9 @@ def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.
     """The paths from the primary hits ``si`` of the ``active`` lanes: the primary vertex with its
     object's own lobes (``first[config]``), then one symbolic Dr.Jit loop (as Mitsuba's ``path``)
     with the integrator's; when the primary vertex's lobes are the loop's (every candidate with
-    the full effect set: the default), it is the loop's first iteration. Returns the radiance and,
-    per ray kind, the rays each lane traced."""
+    the full effect set: the default), it is the loop's first iteration. Returns the radiance, the
+    light of the primary vertex alone (``None`` when it is the loop's first iteration) and, per ray
+    kind, the rays each lane traced."""
     n = dr.width(rng.state)
     depth_limit = max_depth if max_depth >= 0 else 2**31 - 1
     emitted = dr.zeros(mi.Color3f, n) if hide_emitters else mi.Color3f(si.emitter(scene).eval(si, active))
@@ -234,12 +240,14 @@ def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.
               rays=[dr.zeros(mi.UInt32, n) for _ in RAY_KINDS])
     # a primary vertex with the loop's lobes is the loop's first iteration: one copy of the vertex
     # code in the kernel (the same paths, the same random numbers; showcase trace 6.7 -> 6.0 ms)
+    first_light = None
     if len(first) > 1 or first[0].key() != rest.key():
         _vertex(scene, p, first, config, depth_limit, rr_depth)
+        first_light = mi.Color3f(p.L)
     # the loop's state variables, one by one, as dr.while_loop tracks them
     ray, si, rng, L, beta, eta, depth, active, rays = p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays
     while active:
         q = _Path(ray=ray, si=si, rng=rng, L=L, beta=beta, eta=eta, depth=depth, active=active, rays=list(rays))
         _vertex(scene, q, (rest,), None, depth_limit, rr_depth)
         ray, si, rng, L, beta, eta, depth, active, rays = q.ray, q.si, q.rng, q.L, q.beta, q.eta, q.depth, q.active, q.rays
-    return L, rays
+    return L, first_light, rays

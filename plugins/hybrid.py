@@ -19,6 +19,7 @@
         <string name="denoise_quality" value="fast"/>  <!-- or "balanced", "high" -->
         <boolean name="temporal" value="false"/>       <!-- accumulate frames, reprojected -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
+        <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
     </integrator>
 
 Properties
@@ -67,6 +68,11 @@ Properties
                  irradiance learnt from that object's traced pixels in earlier frames (the cheap
                  model of indirect light and shadowing where nothing is traced this frame;
                  ``hybrid_integrator/lighting.py``).
+``shadow_tier``  with a budget (and ``relevance="error"``): a diffuse object may also be traced by
+                 its shadow rays alone, its indirect light from a term learnt where it was traced
+                 whole, at a fraction of the cost; chosen like an object, by the error it was
+                 measured to remove (``hybrid_integrator/heuristic.py``; default on;
+                 ``stats.shadow_only`` lists the objects so traced).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the

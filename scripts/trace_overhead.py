@@ -73,7 +73,7 @@ def main() -> None:
     effects = ("shadow", "reflection", "refraction")
 
     def call(scene, ray, si, traced, obj, seed):
-        rt, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
+        rt, _, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
         return rt, counts.per_object
 
     frozen = dr.freeze(call)
