@@ -258,6 +258,24 @@ class VisibilityTerms:
     candidate: np.ndarray  # bool: a visible object that deserves one of the integrator's effects
 
 
+def rows_of(table: np.ndarray, keys: np.ndarray) -> np.ndarray:
+    """The rows ``keys`` of a table learnt per row (``budget.FrameState``), NaN where the table
+    has no such row yet."""
+    table = np.asarray(table, dtype=np.float64)
+    out = np.full((len(keys),) + table.shape[1:], np.nan)
+    inside = keys < len(table)
+    out[inside] = table[keys[inside]]
+    return out
+
+
+def _bonus(n_objects: int, selected_last: set[int], importance: float) -> np.ndarray:
+    """S_k · I of eq. 3 per object."""
+    bonus = np.zeros(n_objects)
+    last = np.fromiter(selected_last, dtype=np.int64, count=len(selected_last))
+    bonus[last[last < n_objects]] = importance
+    return bonus
+
+
 def error_weights(keys: np.ndarray, errors: np.ndarray | None) -> np.ndarray:
     """E_k / Ē for the rows ``keys`` of the learnt errors per pixel (NaN: never traced; module
     docstring), Ē the mean of every learnt row; ones where nothing is learnt (and with
@@ -268,9 +286,7 @@ def error_weights(keys: np.ndarray, errors: np.ndarray | None) -> np.ndarray:
         seen = np.isfinite(known)
         mean = float(known[seen].mean()) if seen.any() else 0.0
         if mean > 0:
-            inside = keys < len(known)
-            value = np.full(len(keys), np.nan)
-            value[inside] = known[keys[inside]]
+            value = rows_of(known, keys)
             weights = np.where(np.isfinite(value), value / mean, 1.0)
     return weights
 
@@ -293,10 +309,7 @@ def visibility_terms(cov: Coverage, active: np.ndarray, selected_last: set[int],
     centrality = np.maximum(0.0, 1.0 - offset / (0.5 * np.hypot(w, h)))
     distance = np.maximum((cov.depth_sum / seen) / max(cov.mean_depth, 1e-30), 1e-6)
     visibility = area * centrality / distance
-    bonus = np.zeros(len(n))
-    last = np.fromiter(selected_last, dtype=np.int64, count=len(selected_last))
-    bonus[last[last < len(n)]] = importance
-    relevance = bonus + visibility * error_weights(np.arange(len(n)), errors)
+    relevance = _bonus(len(n), selected_last, importance) + visibility * error_weights(np.arange(len(n)), errors)
     return VisibilityTerms(area, centrality, distance, visibility, relevance, active.any(axis=1) & (n > 0))
 
 
@@ -353,20 +366,14 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     keys = index + n * tier
     weights = error_weights(keys, errors)
     if errors is not None:  # a tier is worth nothing until measured (module docstring)
-        known = np.zeros(len(keys), dtype=bool)
-        inside = keys < len(errors)
-        known[inside] = np.isfinite(np.asarray(errors, dtype=np.float64)[keys[inside]])
-        weights[tier & ~known] = 0.0
+        weights[tier & ~np.isfinite(rows_of(errors, keys))] = 0.0
     shadow = np.array([k == "shadow" for k in KINDS])
     kinds = np.where(tier[:, None], shadow, active[index])
     prior = kinds * np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
-    learnt = np.full((len(index), len(KINDS)), np.nan)
-    known = keys < len(rays_table)
-    learnt[known] = rays_table[keys[known]]
+    learnt = rows_of(rays_table, keys)
     per_pixel = np.where(np.isfinite(learnt).any(axis=1, keepdims=True), np.nan_to_num(learnt), prior)
     pixels = cov.pixels[index]
-    bonus = np.where(np.isin(index, list(selected_last)), importance, 0.0)
-    relevance = bonus + terms.visibility[index] * weights
+    relevance = _bonus(n, selected_last, importance)[index] + terms.visibility[index] * weights
     return Candidates(index=index, pixels=pixels, visibility=terms.visibility[index], relevance=relevance,
                       rays=pixels[:, None] * per_pixel, terms=terms, tier=tier)
 

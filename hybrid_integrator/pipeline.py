@@ -56,6 +56,7 @@ from .trace import RAY_KINDS, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
 STAGES = ("raster", "lighting", "select", "trace", "compose", "temporal", "denoise")
+SHADOW_ONLY = ("shadow",)  # the effect set of a shadow tier (heuristic.candidates)
 HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
 
 
@@ -416,7 +417,6 @@ class _Frame:
     ambient: mi.Float | None = None  # the learnt ambient table this frame shades with
     indirect: mi.Float | None = None  # the learnt indirect table of its shadow tiers
     tiers: np.ndarray | None = None  # per object: it has a shadow tier (heuristic.candidates)
-    tier_config: np.ndarray | None = None  # per object: the shadow tier's effect set index, −1 none
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
@@ -495,32 +495,32 @@ class HybridRenderer:
         key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
         if key not in self._setups:
             self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
-        static, active, candidate_config, every, tiers, tier_config = self._setups[key]
+        static, active, candidate_config, every, tiers = self._setups[key]
         stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
         return _Frame(sensor=sensor, camera=camera, static=static, active=active, stats=stats,
-                      candidate_config=candidate_config, candidates=every, tiers=tiers, tier_config=tier_config)
+                      candidate_config=candidate_config, candidates=every, tiers=tiers)
 
     def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
-               layers: bool) -> tuple[PassStatic, np.ndarray, np.ndarray, mi.Int32, np.ndarray, np.ndarray]:
+               layers: bool) -> tuple[PassStatic, np.ndarray, np.ndarray, mi.Int32, np.ndarray]:
         kinds = candidate_kinds(settings.candidates, self.scene)
         # the distinct effect sets the candidates deserve, and each object's (-1: not a candidate):
         # fixed for the frame, so that one traced kernel serves every selection. An object that
         # deserves every kind its material has is traced with all the integrator's effects: the
         # lobes it lacks change nothing, and one effect set for all such objects saves the
         # trace a BSDF evaluation per set at the first vertex
-        full = [set(ks) >= set(d) for ks, d in zip(kinds, default_kinds(self.scene))]
+        material = default_kinds(self.scene)
+        full = [set(ks) >= set(d) for ks, d in zip(kinds, material)]
         active = [settings.effects if ks and f else tuple(k for k in ks if k in settings.effects)
                   for ks, f in zip(kinds, full)]
         # with a budget, an object with diffuse lobes traced with shadows and indirect light may
         # also be traced with its shadow rays alone, its indirect light from the learnt term
         # (heuristic.candidates)
-        shadow_only = ("shadow",)
         tiered = settings.budget_ms > 0 and settings.shadow_tier and settings.relevance == "error"
         tiers = np.array([tiered and {"shadow", "indirect"} <= set(a) and "indirect" in d
-                          for a, d in zip(active, default_kinds(self.scene))], dtype=bool)
-        configs = tuple(sorted({a for a in active if a} | ({shadow_only} if tiers.any() else set())))
+                          for a, d in zip(active, material)], dtype=bool)
+        configs = tuple(sorted({a for a in active if a} | ({SHADOW_ONLY} if tiers.any() else set())))
         modelled = tuple(k for k, c in enumerate(configs) if "indirect" not in c) if "indirect" in settings.effects else ()
         film = sensor.film()
         static = PassStatic(
@@ -534,8 +534,7 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
-        tier_config = np.where(tiers, configs.index(shadow_only) if tiers.any() else -1, -1).astype(np.int32)
-        return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers, tier_config
+        return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
 
     def _post(self, settings: HybridSettings, frame: _Frame, state: FrameState, image: mi.TensorXf,
               outputs: list[PassOutput]) -> mi.TensorXf:
@@ -581,7 +580,8 @@ class HybridRenderer:
         config = np.full(len(self.objects), -1, dtype=np.int32)
         c = plan.candidates
         tier, whole = (c.index[plan.picked][mask] for mask in (c.tier[plan.picked], ~c.tier[plan.picked]))
-        config[tier] = frame.tier_config[tier]
+        if len(tier):
+            config[tier] = frame.static.configs.index(SHADOW_ONLY)
         config[whole] = frame.candidate_config[whole]
         frame.traces = bool((config >= 0).any())
         return plan, mi.Int32(config)
