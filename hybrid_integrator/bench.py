@@ -15,6 +15,8 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   ``path@equal-time``: the spp whose time, on the line through that curve's ends (a fixed cost
   plus a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
   hybrid against the Brigade path tracer, Table 4; at least 1 spp, so it can take longer);
+  ``path`` is timed over ``frames`` frames too, as far as they fit in a second
+  (``compare.TIME_LIMIT_S``; at least 3: the many-sample points of the curve);
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
@@ -151,7 +153,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         history = hybrid("hybrid+history", "hybrid", 3, temporal=True)
 
     def path(method: str, path_spp: int) -> Measurement:
-        image, times = timed_path(scene, path_spp, max_depth, seed, repeats=min(frames, 3))
+        image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames)
         images.append(image)
         rows.append(Measurement(method, "path", statistics.median(times), times, nan, nan, nan, path_spp))
         return rows[-1]
@@ -170,7 +172,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         total = history.time_ms * history.frames_accumulated
         path("path@history-time", int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
         for s in (1, 2, 4):  # path + the same denoiser
-            image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=min(frames, 3))
+            image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames)
             images.append(image)
             rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
                                     nan, nan, nan, s))
