@@ -20,7 +20,10 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
-ΔE2000 (``metrics.py``), measured after all the timings, in parallel worker processes.
+ΔE2000 (``metrics.py``), measured after all the timings, in parallel worker processes. A frame's
+error is a random number (its samples, and for the hybrid the one sub-pixel offset all pixels of
+a pass share), so each row's error is the mean over ``ERROR_FRAMES`` frames: a hybrid run's last
+frames, ``path`` rendered with as many seeds (the history's row: its last frame).
 
 :func:`run` runs one child process per scene (``hybrid bench --single``): each scene gets a fresh
 Dr.Jit state and the GPU memory of one scene is freed before the next. It then writes the JSON, the tables (Table 3 and Table 4
@@ -42,13 +45,15 @@ from pathlib import Path
 import mitsuba as mi
 import numpy as np
 
-from .compare import ground_truth, timed_path, timed_path_denoised
+from .compare import ground_truth, render_path, timed_path, timed_path_denoised
 from .errors import HybridError
 from .metrics import errors_in_parallel
 from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
 from .scene import load_scene
 
+#: frames whose errors are averaged per row (module docstring)
+ERROR_FRAMES = 4
 #: the paper's Tables 3 and 4 (ms at 1280×720 on a GTX 570), by the project scene that stands in
 PAPER = {
     "armadillo_glass": {"scene": "Armadillo", "vertices": 193737, "triangles": 380655, "DR": 3.134, "RT": 25.112,
@@ -117,14 +122,15 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     sensor = scene.sensors()[0]
     camera = mi.ScalarTransform4f(np.array(mi.traverse(sensor)["to_world"].matrix).reshape(4, 4))
     rows: list[Measurement] = []
-    images: list = []  # each row's image: its errors are measured after every timing
+    images: list = []  # each row's images: their errors are measured after every timing
     nan = float("nan")
 
     def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, **extra) -> Measurement:
         props = {"freeze": freeze, **properties, **extra}
         results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                      layers=False, **props)[warmup:]
-        images.append(results[-1].image)  # read back only where errors are measured
+        # read back only where errors are measured; an accumulating history is measured at its end
+        images.append([r.image for r in results[-(1 if extra.get("temporal") else ERROR_FRAMES):]])
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
                           [s.times_ms["total"] for s in stats], nan, nan, nan, frame_spp or spp,
@@ -154,7 +160,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     def path(method: str, path_spp: int) -> Measurement:
         image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames)
-        images.append(image)
+        images.append([image] + [render_path(scene, path_spp, max_depth, seed + k) for k in range(1, ERROR_FRAMES)])
         rows.append(Measurement(method, "path", statistics.median(times), times, nan, nan, nan, path_spp))
         return rows[-1]
 
@@ -173,13 +179,17 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         path("path@history-time", int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
         for s in (1, 2, 4):  # path + the same denoiser
             image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames)
-            images.append(image)
+            images.append([image] + [timed_path_denoised(scene, s, max_depth, seed + k, repeats=0)[0]
+                                     for k in range(1, ERROR_FRAMES)])
             rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
                                     nan, nan, nan, s))
         # the errors after every timing: their workers take every core
-        tests = [np.array(image, dtype=np.float32)[..., :3] for image in images]
-        rows[:] = [replace(row, flip=e.flip, rel_mse=e.rel_mse, delta_e2000=e.delta_e2000)
-                   for row, e in zip(rows, errors_in_parallel(tests, [reference] * len(tests)))]
+        tests = [np.array(image, dtype=np.float32)[..., :3] for row in images for image in row]
+        errors = iter(errors_in_parallel(tests, [reference] * len(tests)))
+        for i, row in enumerate(images):
+            mine = [next(errors) for _ in row]
+            rows[i] = replace(rows[i], **{k: float(np.mean([getattr(e, k) for e in mine]))
+                                          for k in ("flip", "rel_mse", "delta_e2000")})
         equal = next(row for row in rows if row.method == "path@equal-time")
         equal_time = {"spp": equal.spp, "time_ms": equal.time_ms, "flip": equal.flip}
 
