@@ -117,8 +117,8 @@ class HybridSettings:
 @dataclass
 class FrameStats:
     """What one frame cost and did. Times are milliseconds, summed over the frame's sample passes:
-    per stage the device time (module docstring; ``raster`` includes ``gl``, the OpenGL draw and
-    its read into the shared buffer), ``issue`` the host's time to issue the frame, ``total`` its
+    per stage the device time (module docstring; ``raster`` includes ``gl``, the OpenGL clear and
+    draw; the copy of its target into Dr.Jit's array is in no stage), ``issue`` the host's time to issue the frame, ``total`` its
     wall-clock time until its image and statistics are on hand (after its one synchronization),
     less ``host_ms["timing"]``, the profiling that produces the stage times."""
 
@@ -606,9 +606,10 @@ class HybridRenderer:
         if settings.primary == "raster":
             if len(self._gl_queries) <= sample:
                 self._gl_queries.append(self.raster.ctx.query(time=True))
-            with self._gl_queries[sample]:
-                triangle_id = self.raster.device_ids(self.raster.render(camera, offset))
-            gl_flush()  # the query's end to the GPU now: its time is the raster pass's, not the frame's
+            with self._gl_queries[sample]:  # the draw alone: the query's end waits for nothing of CUDA's
+                fbo = self.raster.render(camera, offset)
+            gl_flush()  # the draw and the query's end to the GPU now
+            triangle_id = self.raster.device_ids(fbo)
         else:
             triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
         clock.lap("raster")
