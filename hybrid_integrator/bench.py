@@ -22,8 +22,10 @@ with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hy
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
 ΔE2000 (``metrics.py``), measured after all the timings, in parallel worker processes. A frame's
 error is a random number (its samples, and for the hybrid the one sub-pixel offset all pixels of
-a pass share), so each row's error is the mean over ``ERROR_FRAMES`` frames: a hybrid run's last
-frames, ``path`` rendered with as many seeds (the history's row: its last frame).
+a pass share): the error of a raw frame (not denoised) of at most 2 spp is the mean over
+``ERROR_FRAMES`` frames (a hybrid run's last frames, ``path`` rendered with as many seeds); the
+other rows, whose frames vary far less, are measured on one frame (HDR-FLIP takes seconds per
+1280×720 image).
 
 :func:`run` runs one child process per scene (``hybrid bench --single``): each scene gets a fresh
 Dr.Jit state and the GPU memory of one scene is freed before the next. It then writes the JSON, the tables (Table 3 and Table 4
@@ -52,8 +54,14 @@ from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
 from .scene import load_scene
 
-#: frames whose errors are averaged per row (module docstring)
+#: frames whose errors are averaged for a raw frame of few samples (module docstring)
 ERROR_FRAMES = 4
+
+
+def error_frames(spp: int, raw: bool) -> int:
+    """Frames whose errors a row averages (module docstring)."""
+    return ERROR_FRAMES if raw and spp <= 2 else 1
+
 #: the paper's Tables 3 and 4 (ms at 1280×720 on a GTX 570), by the project scene that stands in
 PAPER = {
     "armadillo_glass": {"scene": "Armadillo", "vertices": 193737, "triangles": 380655, "DR": 3.134, "RT": 25.112,
@@ -130,7 +138,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                      layers=False, **props)[warmup:]
         # read back only where errors are measured; an accumulating history is measured at its end
-        images.append([r.image for r in results[-(1 if extra.get("temporal") else ERROR_FRAMES):]])
+        raw = kind != "raster" and not props.get("denoise", True) and not extra.get("temporal")
+        images.append([r.image for r in results[-error_frames(frame_spp or spp, raw):]])
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
                           [s.times_ms["total"] for s in stats], nan, nan, nan, frame_spp or spp,
@@ -160,7 +169,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     def path(method: str, path_spp: int) -> Measurement:
         image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames)
-        images.append([image] + [render_path(scene, path_spp, max_depth, seed + k) for k in range(1, ERROR_FRAMES)])
+        images.append([image] + [render_path(scene, path_spp, max_depth, seed + k)
+                                 for k in range(1, error_frames(path_spp, raw=True))])
         rows.append(Measurement(method, "path", statistics.median(times), times, nan, nan, nan, path_spp))
         return rows[-1]
 
@@ -179,8 +189,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         path("path@history-time", int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
         for s in (1, 2, 4):  # path + the same denoiser
             image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames)
-            images.append([image] + [timed_path_denoised(scene, s, max_depth, seed + k, repeats=0)[0]
-                                     for k in range(1, ERROR_FRAMES)])
+            images.append([image])
             rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
                                     nan, nan, nan, s))
         # the errors after every timing: their workers take every core
