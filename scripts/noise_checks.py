@@ -8,10 +8,13 @@
   against ``path`` at 1 spp, mean of 6 frames, reference ``path`` at 512 spp.
 - ``shadow-tier``: FLIP at budgets of 0, 25, 50 and 75 % of the all-candidates trace time, with
   and without shadow tiers (nested selection, state learnt over 10 frames at 50 %).
+- ``rr-depth``: the default frame (denoised) at ``rr_depth`` 5, 3, 2 and 1: mean FLIP over frames
+  2-7 (± their standard deviation) and the secondary rays per frame, reference ``path`` 256 spp.
 
     python scripts/noise_checks.py error-estimate --resx 160 --resy 90
     python scripts/noise_checks.py no-denoiser --resx 320 --resy 180
     python scripts/noise_checks.py shadow-tier scenes/sponza_mirror.xml --resx 320 --resy 180
+    python scripts/noise_checks.py rr-depth scenes/sponza_mirror.xml --resx 320 --resy 180
 """
 from __future__ import annotations
 
@@ -28,7 +31,7 @@ DIRS = {"models_dir": SHARED / "models", "showcase_dir": SHARED / "cbox",
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("check", choices=("error-estimate", "no-denoiser", "shadow-tier"))
+    parser.add_argument("check", choices=("error-estimate", "no-denoiser", "shadow-tier", "rr-depth"))
     parser.add_argument("scene", type=Path, nargs="?", default=ROOT / "scenes/armadillo_glass.xml")
     parser.add_argument("--resx", type=int, default=160)
     parser.add_argument("--resy", type=int, default=90)
@@ -74,6 +77,14 @@ def main() -> None:
         for primary in ("raster", "raytrace"):
             frames = hi.render_sequence(scene, [camera] * 6, spp=1, layers=False, denoise=False, primary=primary)
             print(f"hybrid, no denoiser, {primary} primaries: FLIP {np.mean([flip_map(np.array(f.image), truth)[1] for f in frames]):.4f}")
+    elif args.check == "rr-depth":
+        truth = reference(256)
+        for rr in (5, 3, 2, 1):
+            state = FrameState()
+            frames = [hybrid.render(HybridSettings(rr_depth=rr), seed=s, spp=1, state=state, layers=False) for s in range(8)][2:]
+            flips = [flip_map(np.array(f.image), truth)[1] for f in frames]
+            print(f"rr_depth {rr}: FLIP {np.mean(flips):.4f} ± {np.std(flips):.4f}, "
+                  f"secondary rays {statistics.median(f.stats.secondary_rays for f in frames):.0f}")
     else:
         truth = reference(256)
         trace_ms = statistics.median(hybrid.render(HybridSettings(), seed=s, spp=1).stats.times_ms["trace"] for s in range(4))
