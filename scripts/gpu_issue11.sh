@@ -9,6 +9,11 @@ S=/tmp/scn; R=$OUT/r; mkdir -p $R
 mkdir -p $S && tar -xJf .device/scenes.tar.xz -C $S
 export PYTHONPATH=/tmp/oidn_site:$PYTHONPATH
 D="-D resx=1280 -D resy=720 -D models_dir=$S/models -D sponza_dir=$S/sponza-dabrovic -D showcase_dir=$S/cbox -D dining_dir=$S/dining-room"
-python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --gt-spp 1024 --max-path-spp 64 $D \
-  $(for s in "$@"; do echo scenes/$s.xml; done) -o $R/bench > $R/bench.log 2>&1; echo "bench rc=$?"
-tar -czf $OUT/results.tgz -C $OUT r && rm -rf $R
+# one bench per scene, each packed as it ends: a scene takes 100-300 s on an H100, and a device
+# command ends at 600 s, so a killed run still returns the scenes it finished
+for s in "$@"; do
+  python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --gt-spp 1024 --max-path-spp 64 $D \
+    scenes/$s.xml -o $R/$s > $R/$s.log 2>&1; echo "$s rc=$?"
+  tar -czf $OUT/results.tgz -C $OUT r
+done
+rm -rf $R
