@@ -62,6 +62,7 @@ def error_frames(spp: int, raw: bool) -> int:
     """Frames whose errors a row averages (module docstring)."""
     return ERROR_FRAMES if raw and spp <= 2 else 1
 
+
 #: the paper's Tables 3 and 4 (ms at 1280×720 on a GTX 570), by the project scene that stands in
 PAPER = {
     "armadillo_glass": {"scene": "Armadillo", "vertices": 193737, "triangles": 380655, "DR": 3.134, "RT": 25.112,
@@ -138,7 +139,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                      layers=False, **props)[warmup:]
         # read back only where errors are measured; an accumulating history is measured at its end
-        raw = kind != "raster" and not props.get("denoise", True) and not extra.get("temporal")
+        raw = not props.get("denoise", True) and not extra.get("temporal")
         images.append([r.image for r in results[-error_frames(frame_spp or spp, raw):]])
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),

@@ -349,7 +349,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                        static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                        n_objects=static.n_objects, first_effects=static.configs,
-                                       first_config=selection.config)
+                                       first_config=selection.config, keep_direct=bool(static.modelled))
     full, tier = selection.traced, None
     if static.modelled:  # pixels traced without their indirect light take the learnt term for it
         modelled = mi.Bool(False)
@@ -360,7 +360,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         rt = with_ambient(rt, albedo, hits.object, modelled, data.indirect)
         tier = with_ambient(direct, albedo, hits.object, full, data.indirect)  # what a shadow tier would show
     add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects, w, full=full,
-              direct=direct if static.modelled else None, tier=tier)  # what tracing changed
+              direct=direct, tier=tier)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)

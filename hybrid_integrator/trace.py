@@ -74,12 +74,14 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   effects: tuple[str, ...], max_depth: int, rr_depth: int, hide_emitters: bool, *,
                   seed: mi.UInt64, obj: mi.UInt32, n_objects: int,
                   first_effects: tuple[tuple[str, ...], ...] | None = None,
-                  first_config: mi.UInt32 | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
+                  first_config: mi.UInt32 | None = None,
+                  keep_direct: bool = False) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
-    Also returns the light of each path's first vertex alone (its emission and direct light, both
-    MIS strategies), where the primary vertex is not the loop's first iteration (otherwise
-    ``None``): radiance − that is the pixel's indirect light.
+    With ``keep_direct``, also returns the light of each path's first vertex alone (its emission
+    and direct light, both MIS strategies), where the primary vertex is not the loop's first
+    iteration (otherwise, and without ``keep_direct``, ``None``): radiance − that is the pixel's
+    indirect light.
 
     The rays spawned at the primary hit are the kinds its object deserves (§4.1): pixel ``i``
     uses ``first_effects[first_config[i]]`` (default: ``effects`` everywhere), so objects with
@@ -106,6 +108,7 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     rng.seed(mi.sample_tea_64(pixel, key), mi.UInt64(pixel))
     L, first_light, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth,
                                   hide_emitters)
+    first_light = first_light if keep_direct else None  # not written by the kernel where no one reads it
     dr.eval(L, first_light, rays)  # one kernel: the loop runs once for all
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
     direct = None if first_light is None else dr.select(traced, dr.gather(mi.Color3f, first_light, slot, traced), 0.0)

@@ -44,6 +44,7 @@ def main() -> None:
     import hybrid_integrator as hi
     from hybrid_integrator.api import renderer
     from hybrid_integrator.budget import FrameState
+    from hybrid_integrator.compare import render_path
     from hybrid_integrator.metrics import flip_map
     from hybrid_integrator.pipeline import HybridSettings
 
@@ -54,7 +55,7 @@ def main() -> None:
     hybrid = renderer(scene)
 
     def reference(spp: int) -> np.ndarray:
-        return np.array(mi.render(scene, integrator=mi.load_dict({"type": "path"}), spp=spp, seed=1))
+        return np.array(render_path(scene, spp, -1, seed=1))
 
     if args.check == "error-estimate":
         state = FrameState()
@@ -71,8 +72,7 @@ def main() -> None:
                   f"64-frame mean |d| {np.abs(dmean[m]).mean():.3f} ({m.sum()} pixels)")
     elif args.check == "no-denoiser":
         truth = reference(512)
-        path = [flip_map(np.array(mi.render(scene, integrator=mi.load_dict({"type": "path"}), spp=1, seed=s)), truth)[1]
-                for s in range(6)]
+        path = [flip_map(np.array(render_path(scene, 1, -1, seed=s)), truth)[1] for s in range(6)]
         print(f"path 1 spp: FLIP {np.mean(path):.4f}")
         for primary in ("raster", "raytrace"):
             frames = hi.render_sequence(scene, [camera] * 6, spp=1, layers=False, denoise=False, primary=primary)

@@ -1,5 +1,6 @@
-"""Probe: the OpenGL visibility draw with and without face culling (GL timer query, median of
-``--repeats`` draws), and how many pixels keep their triangle, per scene.
+"""Probe: the OpenGL visibility draw with and without face culling (``Rasterizer.cull``; a GL
+timer query around ``Rasterizer.render``, its clear and draw, median of ``--repeats`` draws), and
+how many pixels keep their triangle, per scene.
 
     python3 scripts/raster_cull_probe.py --variant cuda_ad_rgb SCENE... -D resx=1280 -D resy=720
 """
@@ -17,7 +18,6 @@ def main() -> None:
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
     import mitsuba as mi
-    import moderngl
     import numpy as np
 
     mi.set_variant(args.variant)
@@ -29,35 +29,19 @@ def main() -> None:
         scene, name = load_bench_scene(spec, dict(d.split("=", 1) for d in args.defines))
         raster = Rasterizer(scene)
         camera = RasterCamera.from_sensor(scene.sensors()[0])
-        ctx = raster.ctx
-        query = ctx.query(time=True)
+        query = raster.ctx.query(time=True)
         results = {}
-        for mode in ("none", "back", "front"):
+        for mode in (None, "back", "front"):
+            raster.cull = mode
             times, ids = [], None
             for r in range(args.repeats + 2):
-                fbo = raster._framebuffer(camera.width, camera.height)
-                fbo.use()
-                fbo.viewport = (0, 0, camera.width, camera.height)
-                fbo.clear(0.0, 0.0, 0.0, 0.0, depth=0.0)
-                ctx.enable(moderngl.DEPTH_TEST)
-                if mode == "none":
-                    ctx.disable(moderngl.CULL_FACE)
-                else:
-                    ctx.enable(moderngl.CULL_FACE)
-                    ctx.cull_face = mode
-                ctx.depth_func = ">"
-                raster._depth.zero_to_one(True)
-                clip, origin = camera.relative_clip((0.5, 0.5))
-                raster.program["world_to_clip"].write(clip.T.astype("f4").tobytes())
-                raster.program["origin"].write(origin.tobytes())
                 with query:
-                    raster._vao.render(moderngl.TRIANGLES)
-                raster._depth.zero_to_one(False)
-                ctx.finish()
+                    fbo = raster.render(camera)
+                raster.ctx.finish()
                 if r >= 2:
                     times.append(query.elapsed * 1e-6)
                 ids = raster.read_ids(fbo)
-            results[mode] = (statistics.median(times), ids)
+            results[mode or "none"] = (statistics.median(times), ids)
         base = results["none"][1]
         tris = len(raster.geometry.faces)
         for mode, (ms, ids) in results.items():

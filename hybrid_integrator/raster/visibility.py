@@ -94,6 +94,9 @@ class Rasterizer:
         self._depth = depth_precision()
         self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
         self._readback: Readback | None = None
+        #: faces left out of the draw: None (every face, the default: meshes may be open), or
+        #: moderngl's "front" / "back" (``scripts/raster_cull_probe.py`` measures what that saves)
+        self.cull: str | None = None
 
     def _framebuffer(self, width: int, height: int) -> moderngl.Framebuffer:
         key = (width, height)
@@ -114,7 +117,11 @@ class Rasterizer:
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=0.0)
         if self._vao is not None:
             self.ctx.enable(moderngl.DEPTH_TEST)
-            self.ctx.disable(moderngl.CULL_FACE)  # the mirrored projection flips the winding
+            if self.cull is None:
+                self.ctx.disable(moderngl.CULL_FACE)
+            else:  # the mirrored projection flips the winding: "front" leaves out the hidden faces
+                self.ctx.enable(moderngl.CULL_FACE)
+                self.ctx.cull_face = self.cull
             self.ctx.depth_func = ">"
             self._depth.zero_to_one(True)
             clip, origin = camera.relative_clip(offset)
