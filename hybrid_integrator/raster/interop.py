@@ -7,7 +7,9 @@ CUDA array copied device to device into a Dr.Jit array (``cuMemcpy2DAsync``) on 
 stream: OpenGL does no read of its own (a ``glReadPixels`` into a pixel buffer, the way before,
 added 0.13 ms per pass to the H100's OpenGL time at 1280×720), and nothing waits on the host (mapping orders
 the copy after the OpenGL commands that drew the texture, and the stream orders the kernels after
-it).
+it). The texture stays mapped after the copy until OpenGL next needs it (:meth:`Readback.release`,
+which the rasterizer calls before it draws or reads): unmapped right after the copy, the unmap held
+up the kernels issued after it, 0.3–0.5 ms a frame on the H100 (``docs/results/gpu/issue10/unmap``).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``
@@ -128,12 +130,14 @@ class _SharedImage:
     def __init__(self, texture: moderngl.Texture, driver: _Driver):
         self.driver, self.size = driver, texture.size
         self.resource = ctypes.c_void_p()
+        self.mapped = False
         driver.call("cuGraphicsGLRegisterImage", ctypes.byref(self.resource), ctypes.c_uint(texture.glo),
                     ctypes.c_uint(self._TEXTURE_2D), ctypes.c_uint(1))  # CU_GRAPHICS_REGISTER_FLAGS_READ_ONLY
 
     def copy(self, array_type, bytes_per_pixel: int = 4):
-        """Map, copy device to device on Dr.Jit's stream, unmap: all asynchronous. Mapping orders
-        the copy after the OpenGL commands that drew the texture."""
+        """Map (unless still mapped) and copy device to device on Dr.Jit's stream, both
+        asynchronous; the texture stays mapped until :meth:`release`. Mapping orders the copy after
+        the OpenGL commands that drew the texture."""
         w, h = self.size
         out = dr.empty(array_type, w * h)
         dr.eval(out)
@@ -141,15 +145,21 @@ class _SharedImage:
         stream, call = self.driver.stream, self.driver.call_current
         row = w * bytes_per_pixel
         with self.driver.current():
-            call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
-            try:
-                call("cuGraphicsSubResourceGetMappedArray", ctypes.byref(array), self.resource, 0, 0)
-                copy = _Memcpy2D(srcMemoryType=self._ARRAY, srcArray=array, dstMemoryType=self._DEVICE,
-                                 dstDevice=device_pointer(out), dstPitch=row, WidthInBytes=row, Height=h)
-                call("cuMemcpy2DAsync_v2", ctypes.byref(copy), stream)
-            finally:
-                call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), stream)
+            if not self.mapped:
+                call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
+                self.mapped = True
+            call("cuGraphicsSubResourceGetMappedArray", ctypes.byref(array), self.resource, 0, 0)
+            copy = _Memcpy2D(srcMemoryType=self._ARRAY, srcArray=array, dstMemoryType=self._DEVICE,
+                             dstDevice=device_pointer(out), dstPitch=row, WidthInBytes=row, Height=h)
+            call("cuMemcpy2DAsync_v2", ctypes.byref(copy), stream)
         return out
+
+    def release(self) -> None:
+        """Unmap, on Dr.Jit's stream: OpenGL's next commands on the texture wait for the copies
+        issued before."""
+        if self.mapped:
+            self.mapped = False
+            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), self.driver.stream)
 
 
 class Readback:
@@ -177,13 +187,21 @@ class Readback:
             try:
                 shared = self._interop(fbo)
                 if not self._verified:  # the first copy must equal the host's, or interop is off
-                    if not np.array_equal(np.array(shared), host_read(fbo)):
+                    copied = np.array(shared)
+                    self.release()  # OpenGL reads the texture
+                    if not np.array_equal(copied, host_read(fbo)):
                         raise RuntimeError("the interop copy differs from the host read-back")
                     self._verified = True
                 return shared
             except Exception as exc:  # noqa: BLE001 - any failure of interop falls back, and says why
                 self._driver, self.mode = None, f"host (interop failed: {type(exc).__name__}: {exc})"
         return mi.UInt32(host_read(fbo))
+
+    def release(self) -> None:
+        """Hand every texture copied from back to OpenGL: call before OpenGL draws into or reads
+        any of them (mapped to CUDA, OpenGL's access to them is undefined)."""
+        for image in self._images.values():
+            image.release()
 
     def _interop(self, fbo: moderngl.Framebuffer) -> mi.UInt32:
         texture = fbo.color_attachments[0]

@@ -110,6 +110,7 @@ class Rasterizer:
     def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5)) -> moderngl.Framebuffer:
         """The raster pass alone: draw the scene into the camera's target (left on the GPU)."""
         w, h = camera.width, camera.height
+        self._release()
         fbo = self._framebuffer(w, h)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
@@ -134,6 +135,7 @@ class Rasterizer:
     def read_ids(self, fbo: moderngl.Framebuffer) -> np.ndarray:
         """The target of :meth:`render` on the host: per pixel (row-major, row 0 at the top) the
         global triangle number + 1, 0 for the background."""
+        self._release()
         return np.frombuffer(fbo.read(attachment=0, components=1, dtype="u4"), dtype=np.uint32)
 
     def device_ids(self, fbo: moderngl.Framebuffer) -> mi.UInt32:
@@ -142,6 +144,11 @@ class Rasterizer:
         if self._readback is None:
             self._readback = Readback()
         return self._readback.ids(fbo, self.read_ids)
+
+    def _release(self) -> None:
+        """The targets back from CUDA (``interop.Readback.release``) before OpenGL touches them."""
+        if self._readback is not None:
+            self._readback.release()
 
     @property
     def readback(self) -> str:
