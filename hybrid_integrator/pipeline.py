@@ -343,8 +343,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
                               static.has_emitters)
     sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects, extra=2)
     n = max(static.n_objects, 1)  # then the refined pixels: proxies, silhouettes and misses
-    dr.scatter_reduce(dr.ReduceOp.Add, sums, 1.0, BLOCKS * n - 1 + hits.refined, hits.refined > 0)
-    clock.mark("select", selection.traced, selection.config, sums)
+    sums.add(mi.Float(1.0), BLOCKS * n - 1 + hits.refined, hits.refined > 0)
+    clock.mark("select", selection.traced, selection.config, sums.values)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
     rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                        static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
@@ -361,7 +361,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         tier = with_ambient(direct, albedo, hits.object, full, data.indirect)  # what a shadow tier would show
     add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects, w, full=full,
               direct=direct, tier=tier)  # what tracing changed
-    clock.mark("trace", rt, counts.per_object, sums)
+    clock.mark("trace", rt, counts.per_object, sums.values)
     # 5. composition (§5), splatted like a camera ray through the same film position
     color = compose(raster, rt, selection.traced, static.blend)
     if static.max_depth == 0:  # as Mitsuba's path: no vertex at all, not even an emitter seen directly
@@ -392,7 +392,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     if static.surface:
         surface = Surface(position=mi.Point3f(*targets["position"]), normal=mi.Vector3f(*targets["normal"]),
                           object=dr.select(hits.valid, hits.object, 0xFFFFFFFF))
-    packed = dr.concat([counts.per_object, dr.reinterpret_array(mi.UInt32, sums)])
+    packed = dr.concat([counts.per_object, dr.reinterpret_array(mi.UInt32, sums.total())])
     clock.mark("compose", block.tensor(), layers, packed, guides, surface)
     return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs, guides=guides, surface=surface)
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import drjit as dr
 import mitsuba as mi
+from .heuristic import DeviceSums
 from .selection import EFFECTS as RAY_KINDS  # one kind of secondary ray per effect
 from .selection import compact
 from .selection import lobes as followed_lobes
@@ -113,11 +114,11 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
     direct = None if first_light is None else dr.select(traced, dr.gather(mi.Color3f, first_light, slot, traced), 0.0)
     objects = dr.gather(mi.UInt32, obj, pixel, active)
-    per_object = dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1)
+    per_object = DeviceSums(mi.UInt32, len(RAY_KINDS) * width + 1)
     for k, r in enumerate(rays):
-        dr.scatter_reduce(dr.ReduceOp.Add, per_object, r, k * width + objects, active)
-    dr.scatter_reduce(dr.ReduceOp.Add, per_object, 1, len(RAY_KINDS) * width, active)
-    return radiance, direct, TraceCounts(per_object=per_object)
+        per_object.add(r, k * width + objects, active)
+    per_object.add(mi.UInt32(1), mi.UInt32(len(RAY_KINDS) * width), active)
+    return radiance, direct, TraceCounts(per_object=per_object.total())
 
 
 @dataclass

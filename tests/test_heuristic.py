@@ -3,13 +3,15 @@ from __future__ import annotations
 
 import math
 
+import drjit as dr
 import mitsuba as mi
 import numpy as np
 import pytest
 
 import hybrid_integrator as hi
+from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import CostModel, plan_frame
-from hybrid_integrator.heuristic import BLOCKS, Coverage, add_error, candidate_kinds, coverage, object_relevance
+from hybrid_integrator.heuristic import BLOCKS, SPREAD, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
 
@@ -72,10 +74,10 @@ def test_error_estimate_sees_bias_not_noise():
     def color(y):
         return mi.Color3f(*(mi.Float(y.ravel().astype(np.float32)) for _ in range(3)))
     n = 2
-    sums = mi.Float(np.zeros(BLOCKS * n, dtype=np.float32))
+    sums = DeviceSums(mi.Float, BLOCKS * n)
     traced = mi.Bool(np.ones(h * w, dtype=bool))
     add_error(sums, mi.UInt32(obj.ravel()), traced, color(exact), color(cheap), color(cheap), color(cheap), n, w)
-    cov = Coverage.of(sums, w, h, n)
+    cov = Coverage.of(sums.total(), w, h, n)
     assert cov.pairs.tolist() == [h * (w // 2 - 1)] * 2
     measured = np.sqrt(np.maximum(cov.error_sum / cov.pairs, 0.0))
     noise = np.abs(tone(exact) - tone(cheap))[obj == 0].mean()  # what a mean of |d| would say
@@ -192,3 +194,23 @@ def test_objects_with_different_kinds_share_one_trace_call():
     back = gb.shape_index == gb.shape_ids.index("back")
     from scipy.ndimage import binary_erosion
     assert np.all(narrowed.layers["traced"][binary_erosion(back, iterations=3)] < 1e-3)
+
+
+def test_device_sums_spread_over_copies_add_up_to_the_plain_sums():
+    """The GPU's spread sums (one copy per warp number modulo SPREAD, added up after) equal the
+    plain atomic sums, for floats and counts, whatever the lanes' targets."""
+    rng = np.random.default_rng(5)
+    lanes, size = 5000, 7
+    index = mi.UInt32(rng.integers(0, size, lanes).astype(np.uint32))
+    active = mi.Bool(rng.random(lanes) < 0.8)
+    floats = mi.Float(rng.random(lanes).astype(np.float32))
+    counts = mi.UInt32(rng.integers(0, 9, lanes).astype(np.uint32))
+    for dtype, value in ((mi.Float, floats), (mi.UInt32, counts)):
+        plain, spread = DeviceSums(dtype, size, copies=1), DeviceSums(dtype, size, copies=SPREAD)
+        for sums in (plain, spread):
+            sums.add(value, index, active)
+            sums.add(dtype(1), mi.UInt32(size - 1), active)  # one target for every lane
+        assert dr.width(spread.values) == size * SPREAD and dr.width(spread.total()) == size
+        np.testing.assert_allclose(np.array(spread.total()), np.array(plain.total()), rtol=1e-5)
+    with pytest.raises(HybridError, match="power of two"):
+        DeviceSums(mi.Float, 3, copies=3)
