@@ -9,7 +9,8 @@ added 0.13 ms per pass to the H100's OpenGL time at 1280×720), and nothing wait
 the copy after the OpenGL commands that drew the texture, and the stream orders the kernels after
 it). The texture stays mapped after the copy until OpenGL next needs it (:meth:`Readback.release`,
 which the rasterizer calls before it draws or reads): unmapped right after the copy, the unmap held
-up the kernels issued after it, 0.3–0.5 ms a frame on the H100 (``docs/results/gpu/issue10/unmap``).
+up the kernels issued after it, and DR frames took 0.2–0.5 ms longer on the H100 where the GPU,
+not the host, bounds them (``docs/results/gpu/issue10/unmap``).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``
