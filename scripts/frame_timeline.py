@@ -23,6 +23,8 @@ import statistics
 import time
 from pathlib import Path
 
+from frame_profile import print_kernels  # scripts/ is on sys.path when a script runs
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -82,13 +84,6 @@ def main() -> None:
             print_kernels(renderer.clock.last)
             print("host ms by phase (FrameStats.host_ms):",
                   {k: round(statistics.median(p[k] for p in phases), 3) for k in phases[0]})
-
-
-def print_kernels(entries) -> None:
-    """One line per launch (kernel, reduction, copy) of a frame: stage, type, lanes, device ms."""
-    for stage, e in entries:
-        print(f"  {stage:9s} {str(e.get('type', '')).split('.')[-1]:18s}{e.get('size', 0):9d} "
-              f"{float(e.get('execution_time', 0.0)):7.3f}")
 
 
 class Marks:

@@ -183,13 +183,12 @@ class Readback:
 
     def ids(self, fbo: moderngl.Framebuffer, host_read) -> mi.UInt32:
         """The triangle-number target of ``fbo``; ``host_read(fbo)`` is the host path
-        (``Rasterizer.read_ids``)."""
+        (``Rasterizer.read_ids``, which calls :meth:`release` before OpenGL reads)."""
         if self._driver is not None:
             try:
                 shared = self._interop(fbo)
                 if not self._verified:  # the first copy must equal the host's, or interop is off
-                    copied = np.array(shared)
-                    self.release()  # OpenGL reads the texture
+                    copied = np.array(shared)  # before host_read, which hands the texture back to OpenGL
                     if not np.array_equal(copied, host_read(fbo)):
                         raise RuntimeError("the interop copy differs from the host read-back")
                     self._verified = True
