@@ -100,6 +100,31 @@ def test_geometry_is_uploaded_once_and_reused():
     assert same.sum() > 0.5 * a.hit.sum() and not np.allclose(a.bary[same], b.bary[same])
 
 
+def test_drawn_vertices_are_numbered_in_order_of_first_use():
+    """The rasterizer draws the scene's triangles with their vertices renumbered (a faster
+    geometry-bound draw): every triangle keeps its number and its corners, the first triangles
+    use the first vertices, and vertices no triangle uses are gone."""
+    from hybrid_integrator.raster.geometry import SceneGeometry, scene_geometry
+
+    scene = load(SHARED_SCENES / "models/armadillo.xml", resx=64, resy=36)
+    loaded = scene_geometry(scene)
+    extra = SceneGeometry(np.concatenate([loaded.positions, [[9.0, 9.0, 9.0]]]).astype(np.float32),
+                          loaded.faces, loaded.first_triangle, loaded.proxy)  # one unused vertex
+    drawn = extra.renumbered()
+    assert np.array_equal(drawn.positions[drawn.faces], loaded.positions[loaded.faces])
+    assert len(drawn.positions) == len(np.unique(loaded.faces))
+    first_seen = drawn.faces.ravel()[np.sort(np.unique(drawn.faces.ravel(), return_index=True)[1])]
+    assert np.array_equal(first_seen, np.arange(len(drawn.positions)))
+    # the order depends on the triangles alone, not on how the file numbered its vertices
+    order = np.random.default_rng(0).permutation(len(loaded.positions))
+    position_of = np.empty_like(order)
+    position_of[order] = np.arange(len(order))
+    shuffled = SceneGeometry(loaded.positions[order], position_of[loaded.faces].astype(np.uint32),
+                             loaded.first_triangle, loaded.proxy).renumbered()
+    assert np.array_equal(shuffled.faces, drawn.faces) and np.array_equal(shuffled.positions, drawn.positions)
+    assert np.array_equal(hi.rasterizer(scene).geometry.faces, loaded.renumbered().faces)
+
+
 def test_float_depth_keeps_precision_far_away():
     """A distant camera (1 km): a 24-bit 1/z depth buffer would lose the triangles; reversed-Z
     float depth (context.DepthPrecision) does not.

@@ -81,7 +81,7 @@ class Rasterizer:
 
     def __init__(self, scene: mi.Scene):
         self.ctx = gl_context()
-        self.geometry = scene_geometry(scene)
+        self.geometry = scene_geometry(scene).renumbered()  # vertices in the order the draw fetches them
         self.tables = TriangleTables.of(scene, self.geometry)
         self.program = self.ctx.program(vertex_shader=_shader("visibility.vert"),
                                         fragment_shader=_shader("visibility.frag"))
