@@ -2,9 +2,10 @@
 tracing → composition, repeated once per sample at a jittered sub-pixel offset and splatted into
 the film.
 
-:meth:`HybridRenderer.render` is the paper's Fig. 4 as code: plan the selection on the host
-(stage 3, from the last frame's coverage), then per sample pass draw the visibility buffer with
-OpenGL (stage 1) and run the *device pass* (:func:`device_pass`): primary hits, G-buffer and
+:meth:`HybridRenderer.render` is the paper's Fig. 4 as code: draw every sample pass's visibility
+buffer with OpenGL (stage 1; the GPU draws while the host goes on), plan the selection on the host
+(stage 3, from the last frame's coverage), then per sample pass run the *device pass*
+(:func:`device_pass`): primary hits, G-buffer and
 deferred lighting (stage 2), the selected pixels, their secondary rays (stage 4) and the
 composition (stage 5), all Dr.Jit kernels, frozen with ``dr.freeze`` so that a frame replays
 recorded kernels instead of tracing Python again. The backend is synchronized once per frame, at
@@ -25,6 +26,7 @@ wall-clock time, from the call to its statistics read back after its one synchro
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import math
@@ -463,15 +465,17 @@ class HybridRenderer:
             dr.kernel_history_clear()
             clock = _HostClock()
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
+            offsets = subpixel_offsets(frame.stats.spp, seed)
+            clock.lap("setup")
+            # every pass's visibility buffer first (1): OpenGL draws while the host sets up and
+            # plans the frame (a budget's selection: 0.4-0.7 ms), and OpenGL's and CUDA's work
+            # take turns on the GPU, so a draw issued after a pass's device work would wait for all of it
+            ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
             tables = [t if settings.learn_ambient else t[:0] for t in (state.ambient, state.indirect)]
             frame.ambient, frame.indirect = (mi.Float(ambient_table(t, len(self.objects)).ravel()) for t in tables)
             clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
             clock.lap("select")
-            offsets = subpixel_offsets(frame.stats.spp, seed)
-            # every pass's visibility buffer first: OpenGL's and CUDA's work take turns on the GPU,
-            # so a draw issued after a pass's device work would wait for all of it
-            ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
             outputs = [self._device(settings, frame, config, seed, sample, offset, ids[sample], clock)  # 1, 2, 4, 5
                        for sample, offset in enumerate(offsets)]
             composed = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
@@ -596,17 +600,20 @@ class HybridRenderer:
               clock: "_HostClock | None" = None) -> PassOutput:
         """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
         clock = clock or _HostClock()
-        triangle_id = self._visibility(settings, frame, sample, offset, clock)
+        triangle_id = self._visibility(settings, frame, sample, offset, clock, timed=False)
         return self._device(settings, frame, config, seed, sample, offset, triangle_id, clock)
 
-    def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock") -> mi.UInt32:
+    def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock",
+                    timed: bool = True) -> mi.UInt32:
         """Stage 1 of one sample pass: the visibility buffer drawn by OpenGL, as a Dr.Jit array
-        (camera rays need none: zeros)."""
+        (camera rays need none: zeros). ``timed``: the draw's GL time is the frame's (a timer
+        query per sample pass; a probe's draw is not timed)."""
         camera = frame.camera
         if settings.primary == "raster":
             if len(self._gl_queries) <= sample:
                 self._gl_queries.append(self.raster.ctx.query(time=True))
-            with self._gl_queries[sample]:  # the draw alone: the query's end waits for nothing of CUDA's
+            # the draw alone: the query's end waits for nothing of CUDA's
+            with self._gl_queries[sample] if timed else contextlib.nullcontext():
                 fbo = self.raster.render(camera, offset)
             gl_flush()  # the draw and the query's end to the GPU now
             triangle_id = self.raster.device_ids(fbo)

@@ -11,7 +11,9 @@ which waits for the draw through the interop mapping, is done.
 
 The points wrap the renderer's own methods on one instance (no copy of the frame's code): the
 raster pass and its interop copy, each device pass (a frozen replay), the film's development and
-the post-processing (history, denoiser).
+the post-processing (history, denoiser). Five kinds of frame: nothing traced (DR), the default
+frame, a budget of ``--budget`` × the default frame's trace time (after five frames, the first of
+which probe), and the RT baseline with nothing traced and with everything.
 
     python3 scripts/frame_timeline.py scenes/armadillo_glass.xml --variant cuda_ad_rgb -D resx=1280 -D resy=720 ...
 """
@@ -33,6 +35,8 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=30)
     parser.add_argument("--save-images", type=Path, default=None, metavar="DIR",
                         help="save each kind of frame's first timed image as DIR/SCENE-KIND.npy (to compare two versions)")
+    parser.add_argument("--budget", type=float, default=0.5,
+                        help="the budgeted frame's budget, as a fraction of the default frame's trace time")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
 
@@ -49,17 +53,20 @@ def main() -> None:
     defines = dict(d.split("=", 1) for d in args.defines)
     for path in args.scenes:
         scene, _ = load_bench_scene(str(path), defines)
+        trace_all = None  # the default frame's trace time: what the budget is a fraction of
         for kind, label, props in (("dr", "DR (nothing traced)", {"candidates": ""}), ("default", "default frame", {}),
+                                   ("budget", f"{args.budget:.0%} budget", None),
                                    ("rt-dr", "RT baseline, nothing traced", {"candidates": "", "primary": "raytrace"}),
                                    ("rt", "RT baseline", {"primary": "raytrace"})):
+            props = props if props is not None else {"budget_ms": args.budget * trace_all}
             integrator = hi.api._integrator(dict(props))
-            for seed in range(3):  # compiles and records
+            for seed in range(5 if kind == "budget" else 3):  # compiles and records; a budget's first frames probe
                 integrator.render_result(scene, seed=seed, spp=1, layers=False)
             renderer = hi.api.renderer(scene)
             marks = Marks(driver)
             with marks.around(renderer, pipeline):
                 rows = []
-                kernels, phases, totals = [], [], []
+                kernels, phases, totals, traces = [], [], [], []
                 for seed in range(args.frames):
                     marks.start()
                     result = integrator.render_result(scene, seed=3 + seed, spp=1, layers=False)
@@ -72,6 +79,9 @@ def main() -> None:
                         np.save(args.save_images / f"{path.stem}-{kind}.npy", np.array(result.image))
                     kernels.append(sum(v for k, v in stats.times_ms.items() if k not in ("gl", "issue", "total"))
                                    - stats.times_ms["gl"])
+                    traces.append(stats.times_ms["trace"])
+            if kind == "default":
+                trace_all = statistics.median(traces)
             print(f"\n{path.name}, {label}: median ms since the frame began, over {args.frames} frames")
             print(f"frame time (FrameStats total, as the bench reports it): {statistics.median(totals):.3f} ms")
             print(f"{'point':28s} {'host':>7s} {'GPU':>7s}")
