@@ -10,15 +10,19 @@ import argparse
 import statistics
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(doc: str) -> argparse.Namespace:
+    """The probes' command line (this one's and ``raster_order_probe.py``'s)."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument("scenes", nargs="+")
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--repeats", type=int, default=30)
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
-    args = parser.parse_args()
+    return parser.parse_args()
+
+
+def rasterizers(args: argparse.Namespace):
+    """Per scene of ``args``: its name, the scene, its ``Rasterizer``, its camera and a GL timer query."""
     import mitsuba as mi
-    import numpy as np
 
     mi.set_variant(args.variant)
     from hybrid_integrator.bench import load_bench_scene
@@ -28,20 +32,32 @@ def main() -> None:
     for spec in args.scenes:
         scene, name = load_bench_scene(spec, dict(d.split("=", 1) for d in args.defines))
         raster = Rasterizer(scene)
-        camera = RasterCamera.from_sensor(scene.sensors()[0])
-        query = raster.ctx.query(time=True)
+        yield name, scene, raster, RasterCamera.from_sensor(scene.sensors()[0]), raster.ctx.query(time=True)
+
+
+def timed_draw(raster, camera, query, repeats: int):
+    """The median GL time (ms) of ``Rasterizer.render``'s clear and draw over ``repeats`` draws
+    after two, and the last draw's target."""
+    times = []
+    for r in range(repeats + 2):
+        with query:
+            fbo = raster.render(camera)
+        raster.ctx.finish()
+        if r >= 2:
+            times.append(query.elapsed * 1e-6)
+    return statistics.median(times), fbo
+
+
+def main() -> None:
+    import numpy as np
+
+    args = arguments(__doc__)
+    for name, _, raster, camera, query in rasterizers(args):
         results = {}
         for mode in (None, "back", "front"):
             raster.cull = mode
-            times, ids = [], None
-            for r in range(args.repeats + 2):
-                with query:
-                    fbo = raster.render(camera)
-                raster.ctx.finish()
-                if r >= 2:
-                    times.append(query.elapsed * 1e-6)
-                ids = raster.read_ids(fbo)
-            results[mode or "none"] = (statistics.median(times), ids)
+            ms, fbo = timed_draw(raster, camera, query, args.repeats)
+            results[mode or "none"] = (ms, raster.read_ids(fbo))
         base = results["none"][1]
         tris = len(raster.geometry.faces)
         for mode, (ms, ids) in results.items():

@@ -13,8 +13,7 @@ loaded, renumbered"); and the clear alone (no triangles).
 """
 from __future__ import annotations
 
-import argparse
-import statistics
+from raster_cull_probe import arguments, rasterizers, timed_draw  # scripts/ is on sys.path when a script runs
 
 
 def morton_order(centroids, bits: int = 10):
@@ -31,26 +30,12 @@ def morton_order(centroids, bits: int = 10):
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("scenes", nargs="+")
-    parser.add_argument("--variant", default="llvm_ad_rgb")
-    parser.add_argument("--repeats", type=int, default=30)
-    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
-    args = parser.parse_args()
-    import mitsuba as mi
     import numpy as np
 
-    mi.set_variant(args.variant)
-    from hybrid_integrator.bench import load_bench_scene
-    from hybrid_integrator.raster.camera import RasterCamera
     from hybrid_integrator.raster.geometry import SceneGeometry, scene_geometry
-    from hybrid_integrator.raster.visibility import Rasterizer
 
-    for spec in args.scenes:
-        scene, name = load_bench_scene(spec, dict(d.split("=", 1) for d in args.defines))
-        raster = Rasterizer(scene)
-        camera = RasterCamera.from_sensor(scene.sensors()[0])
-        query = raster.ctx.query(time=True)
+    args = arguments(__doc__)
+    for name, scene, raster, camera, query in rasterizers(args):
         g = scene_geometry(scene)  # as loaded (the rasterizer draws it renumbered)
         faces, positions = g.faces, g.positions
         shuffled = np.random.default_rng(1).permutation(len(faces))
@@ -75,18 +60,12 @@ def main() -> None:
                 ibo = raster.ctx.buffer(np.ascontiguousarray(f, dtype="u4").tobytes())
                 raster._vao = raster.ctx.vertex_array(raster.program, [(vbo, "3f", "in_position")], index_buffer=ibo,
                                                       index_element_size=4)
-            times = []
-            for r in range(args.repeats + 2):
-                with query:
-                    fbo = raster.render(camera)
-                raster.ctx.finish()
-                if r >= 2:
-                    times.append(query.elapsed * 1e-6)
+            ms, fbo = timed_draw(raster, camera, query, args.repeats)
             ids = raster.read_ids(fbo).astype(np.int64)
             if perm is not None:  # back to the loaded numbering
                 ids = np.where(ids > 0, perm[np.maximum(ids - 1, 0)] + 1, 0)
             base = ids if base is None else base
-            print(f"{name}: {len(faces):,} triangles, {label:26s}: GL {statistics.median(times):.3f} ms, "
+            print(f"{name}: {len(faces):,} triangles, {label:26s}: GL {ms:.3f} ms, "
                   f"same triangle on {100 * np.mean(ids == base):.3f} % of pixels", flush=True)
 
 
