@@ -159,6 +159,20 @@ def test_budget_in_a_render():
     assert generous.stats.budget_met and generous.stats.relevance_captured == pytest.approx(1.0)
 
 
+def test_a_first_budgeted_frame_keeps_its_own_visibility_buffer():
+    """The frame's draw is issued before the selection is planned, and a first budgeted frame's
+    plan draws a probe pass (at the pixel centres) into the same target after it: the frame must
+    still decode its own draw, at its own sub-pixel position, as a frame without a probe does
+    (a pixel whose ray misses the triangle drawn there is re-traced, so the count of those tells
+    the draws apart), and time its own draw."""
+    scene = load(DEFAULT_SCENE)
+    budgeted = hi.render(scene, spp=1, seed=5, budget_ms=1e-3, denoise=False)
+    plain = hi.render(scene, spp=1, seed=5, candidates="", denoise=False)
+    assert budgeted.stats.times_ms["gl"] > 0
+    assert budgeted.stats.edge_refinements == plain.stats.edge_refinements
+    assert np.allclose(budgeted.layers["raster"], plain.layers["raster"], rtol=1e-5, atol=1e-6)
+
+
 def test_render_sequence_carries_selection_and_restores_the_camera():
     scene = load(DEFAULT_SCENE)
     params = mi.traverse(scene.sensors()[0])
