@@ -468,7 +468,7 @@ class HybridRenderer:
             offsets = subpixel_offsets(frame.stats.spp, seed)
             clock.lap("setup")
             # every pass's visibility buffer first (1): OpenGL draws while the host sets up and
-            # plans the frame (a budget's selection: 0.4-0.7 ms), and OpenGL's and CUDA's work
+            # plans the frame (a budget's selection: 0.3-0.4 ms on the H100's host), and OpenGL's and CUDA's work
             # take turns on the GPU, so a draw issued after a pass's device work would wait for all of it
             ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
             tables = [t if settings.learn_ambient else t[:0] for t in (state.ambient, state.indirect)]

@@ -52,7 +52,7 @@ class SceneGeometry:
         them (unused vertices left out). No triangle changes its number or its corners, but
         consecutive triangles then fetch nearby vertices: the geometry-bound draw on the H100
         takes 0.98 -> 0.87 ms on the Armadillo, whose subdivided mesh numbers its vertices far from
-        where they are used, and the same on the other scenes (``scripts/raster_order_probe.py``,
+        where they are used, and changes nothing on the other scenes (``scripts/raster_order_probe.py``,
         docs/results/gpu/issue10/order)."""
         flat = self.faces.ravel()
         if not len(flat):
@@ -76,11 +76,12 @@ def scene_geometry(scene: mi.Scene) -> SceneGeometry:
     shapes = [shape_geometry(shape, index) for index, shape in enumerate(scene.shapes())]
     counts = [len(s.faces) for s in shapes]
     offsets = np.cumsum([0] + [len(s.positions) for s in shapes])
-    positions = np.concatenate([s.positions for s in shapes]).astype(np.float32) if shapes else np.zeros((0, 3), np.float32)
-    faces = (np.concatenate([s.faces.astype(np.int64) + o for s, o in zip(shapes, offsets)]).astype(np.uint32)
-             if shapes else np.zeros((0, 3), np.uint32))
-    return SceneGeometry(positions=positions, faces=faces, first_triangle=np.cumsum([0] + counts).astype(np.int64),
-                         proxy=np.array([s.proxy for s in shapes], dtype=bool))
+    return SceneGeometry(
+        positions=np.concatenate([s.positions for s in shapes]).astype(np.float32) if shapes else np.zeros((0, 3), np.float32),
+        faces=(np.concatenate([s.faces.astype(np.int64) + o for s, o in zip(shapes, offsets)]).astype(np.uint32)
+               if shapes else np.zeros((0, 3), np.uint32)),
+        first_triangle=np.cumsum([0] + counts).astype(np.int64),
+        proxy=np.array([s.proxy for s in shapes], dtype=bool))
 
 
 def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:
