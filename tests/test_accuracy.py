@@ -127,10 +127,12 @@ def test_shadow_tier_traces_shadows_alone_with_the_learnt_indirect_light():
         for seed in range(8):
             renderer(scene).render(settings, seed=seed, spp=1, state=state, layers=False)
         # the first of the next frames that traces something: a frame whose cost model was
-        # calibrated while the machine was busy may trace nothing at all
-        frames = (renderer(scene).render(settings, seed=seed, spp=1, state=state, layers=False) for seed in range(9, 13))
+        # calibrated while the machine was busy may trace nothing at all, and each such frame
+        # drops one outlier from the model (budget.CostModel.forget_slowest): four frames were
+        # seen not to be enough in about one run in five on the CI machine
+        frames = (renderer(scene).render(settings, seed=seed, spp=1, state=state, layers=False) for seed in range(9, 17))
         frame = next((f for f in frames if f.stats.selected), None)
-        assert frame is not None, "four budgeted frames in a row traced nothing"
+        assert frame is not None, "eight budgeted frames in a row traced nothing"
         errors[tier] = flip(frame.image, truth)
         assert set(frame.stats.shadow_only) <= set(frame.stats.selected)
         if not tier:
