@@ -58,6 +58,10 @@ class CostModel:
     def _fitted(self, rays: dict[str, float]) -> float:
         return self.launch_ms + sum(self.rates[k] * v for k, v in rays.items())
 
+    def _rate_vector(self) -> np.ndarray:
+        """The rates in KINDS order, for rows of rays by kind."""
+        return np.array([self.rates[k] for k in KINDS])
+
     def predict(self, rays: dict[str, float]) -> float:
         """Predicted milliseconds of a trace call tracing ``rays``."""
         return self.margin * self._fitted(rays)
@@ -68,7 +72,7 @@ class CostModel:
 
     def extra_rows(self, rays: np.ndarray) -> np.ndarray:
         """:meth:`extra` of each row of ``rays`` (rays by kind, KINDS order), at once."""
-        return self.margin * (rays @ np.array([self.rates[k] for k in KINDS]))
+        return self.margin * (rays @ self._rate_vector())
 
     def launch(self) -> float:
         """Predicted fixed cost of a trace call."""
@@ -106,14 +110,14 @@ class CostModel:
         seen = np.nonzero(rays.sum(axis=0) > 0)[0]
         # per-kind rates, each pulled towards the pooled one, as strongly as one observation over
         # the window's length: firmly while there are few observations, hardly once it is full
-        # (the median of each kind's traced passes: numpy's nanmedian takes ~1 ms on so few rows)
+        # (the median of each kind's traced passes; numpy's nanmedian goes through masked arrays)
         weight = np.array([np.median(column[column > 0]) for column in rays[:, seen].T]) / len(ms)
         prior = np.hstack([np.diag(weight), np.zeros((len(seen), 1))])
         solution, _ = nnls(np.vstack([np.hstack([rays[:, seen], ones]), prior]), np.r_[ms, weight * pooled])
         self.rates = dict.fromkeys(KINDS, pooled) | {KINDS[c]: float(x) for c, x in zip(seen, solution[:-1])}
         self.launch_ms = float(solution[-1])
         expected = np.array([row for _, _, row in self.history])
-        fitted = self.launch_ms + (expected * np.array([self.rates[k] for k in KINDS])).sum(axis=1)
+        fitted = self.launch_ms + (expected * self._rate_vector()).sum(axis=1)
         self.margin = float(np.clip(np.quantile(ms / np.maximum(fitted, 1e-9), self.quantile), 1.0, 4.0))
 
 

@@ -610,7 +610,7 @@ class HybridRenderer:
         query per sample pass; a probe's draw is not timed)."""
         camera = frame.camera
         if settings.primary == "raster":
-            if len(self._gl_queries) <= sample:
+            if timed and len(self._gl_queries) <= sample:
                 self._gl_queries.append(self.raster.ctx.query(time=True))
             # the draw alone: the query's end waits for nothing of CUDA's
             with self._gl_queries[sample] if timed else contextlib.nullcontext():
