@@ -551,10 +551,10 @@ class HybridRenderer:
         rgb = image if image.shape[2] == 3 else image[..., 0:3]
         if settings.temporal:
             if settings.freeze not in self._accumulators:
-                self._accumulators[settings.freeze] = Accumulator(settings.freeze)
+                self._accumulators[settings.freeze] = Accumulator(settings.freeze,
+                                                                  lambda *out: self.clock.mark("temporal", *out))
             accumulate = self._accumulators[settings.freeze]
             rgb, state.history = accumulate(rgb, outputs[0].surface, frame.camera, state.history)
-            self.clock.mark("temporal", rgb, state.history.count)
         else:
             state.history = None
         if settings.denoise and frame.traces:  # a frame that traces nothing has no noise to remove

@@ -99,8 +99,20 @@ def _accumulate(color: mi.Float, surface: Surface, eye: mi.Float, history_color:
 class Accumulator:
     """The history of one image size, updated by one frozen function per frame."""
 
-    def __init__(self, freeze: bool = True):
-        self._update = dr.freeze(_accumulate) if freeze else _accumulate
+    def __init__(self, freeze: bool = True, mark=None):
+        """``mark(*arrays)``, if given, is called with the update's outputs where its body runs
+        (unfrozen, or while ``dr.freeze`` records it): the stage clock's
+        :meth:`~hybrid_integrator.pipeline.StageClock.mark`, which reads Dr.Jit's kernel history
+        and so waits for the device. A replay does not run the body, so a frozen update adds no
+        synchronization to the frame."""
+
+        def update(*args):
+            blended, count = _accumulate(*args)
+            if mark is not None:
+                mark(blended, count)
+            return blended, count
+
+        self._update = dr.freeze(update) if freeze else update
 
     def __call__(self, color: mi.TensorXf, surface: Surface, camera, history: History | None) -> tuple[mi.TensorXf, History]:
         """``color`` (H×W×3) with the reprojected history blended in; returns it and the new history."""
