@@ -56,6 +56,15 @@ from .scene import load_scene
 
 #: frames whose errors are averaged for a raw frame of few samples (module docstring)
 ERROR_FRAMES = 4
+#: a still camera's history is also measured after these many frames (and after all of them)
+HISTORY_CHECKPOINTS = (1, 2, 4, 8, 16)
+#: paths per primary hit of the second still-camera history (``secondary_spp``)
+HISTORY_PATHS = 8
+
+
+def history_rival(method: str) -> str:
+    """The ``path`` row given the total time of a history row's frames."""
+    return "path@history-time" + method.removeprefix("hybrid+history")
 
 
 def error_frames(spp: int, raw: bool) -> int:
@@ -136,8 +145,9 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, **extra) -> Measurement:
         props = {"freeze": freeze, **properties, **extra}
-        results = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
-                                     layers=False, **props)[warmup:]
+        every = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
+                                   layers=False, **props)
+        results = every[warmup:]
         # read back only where errors are measured; an accumulating history is measured at its end
         raw = not props.get("denoise", True) and not extra.get("temporal")
         images.append([r.image for r in results[-error_frames(frame_spp or spp, raw):]])
@@ -149,6 +159,10 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                           statistics.median(s.secondary_rays for s in stats),
                           warmup + frames if extra.get("temporal") else None)
         rows.append(row)
+        if extra.get("temporal"):  # the history on its way: the same frames, measured earlier
+            for n in (n for n in HISTORY_CHECKPOINTS if n < len(every)):
+                rows.append(replace(row, method=f"{method}@{n}", frames_accumulated=n))
+                images.append([every[n - 1].image])
         return row
 
     # warm-up: three frames (the first compiles, the second may record frozen kernels again with the
@@ -166,7 +180,9 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
             hybrid(f"hybrid {s * spp} spp", "hybrid", 3, frame_spp=s * spp)
         # path + denoiser below uses the 'high' filter too: the same denoiser on both sides
         hybrid(f"hybrid {2 * spp} spp, denoiser 'high'", "hybrid", 3, frame_spp=2 * spp, denoise_quality="high")
-        history = hybrid("hybrid+history", "hybrid", 3, temporal=True)
+        histories = [hybrid("hybrid+history", "hybrid", 3, temporal=True),
+                     hybrid(f"hybrid+history, {HISTORY_PATHS} paths/hit", "hybrid", 3, temporal=True,
+                            secondary_spp=HISTORY_PATHS)]
 
     def path(method: str, path_spp: int) -> Measurement:
         image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames)
@@ -185,9 +201,10 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         fixed = max(first.time_ms - per_spp * first.spp, 0.0)
         # at most 16× the curve's last point: further out the line is a guess
         path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
-        # the history's frames, all of them, against path given their total time
-        total = history.time_ms * history.frames_accumulated
-        path("path@history-time", int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
+        # each history's frames, all of them, against path given their total time
+        for history in histories:
+            total = history.time_ms * history.frames_accumulated
+            path(history_rival(history.method), int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
         for s in (1, 2, 4):  # path + the same denoiser
             image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames)
             images.append([image])
@@ -373,14 +390,21 @@ def chart(report: dict, path: Path) -> None:
         if m is None:
             continue
         ax.plot([m["time_ms"]], [m["flip"]], marker, markersize=9, label=f"{name} ({m['spp']} spp)" if name.startswith("path") else name)
-    history = by_name.get("hybrid+history")
-    if history:  # its frames together against path given the same total time
-        total = history["time_ms"] * history["frames_accumulated"]
-        ax.plot([total], [history["flip"]], "X", markersize=10,
-                label=f"hybrid + history: {history['frames_accumulated']} frames (total time)")
-        p = by_name.get("path@history-time")
+    for name, history in by_name.items():  # a still camera: its frames together, against path given their time
+        if not name.startswith("hybrid+history") or "@" in name:
+            continue
+        steps = sorted([m for m in methods if m["method"].startswith(name + "@")] + [history],
+                       key=lambda m: m["frames_accumulated"])
+        line, = ax.plot([m["time_ms"] * m["frames_accumulated"] for m in steps], [m["flip"] for m in steps], "X--",
+                        markersize=7, label=f"{name.replace('hybrid+history', 'hybrid + history')}: "
+                                            f"1…{history['frames_accumulated']} frames (total time)")
+        for m in steps:
+            ax.annotate(str(m["frames_accumulated"]), (m["time_ms"] * m["frames_accumulated"], m["flip"]), fontsize=7,
+                        xytext=(3, -9), textcoords="offset points")
+        p = by_name.get(history_rival(name))
         if p:
-            ax.plot([p["time_ms"]], [p["flip"]], "x", markersize=10, label=f"path at that time ({p['spp']} spp)")
+            ax.plot([p["time_ms"]], [p["flip"]], "x", color=line.get_color(), markersize=10,
+                    label=f"path at its total time ({p['spp']} spp)")
     ax.set_xscale("log")
     ax.set_xlabel("time per frame (ms, log)")
     ax.set_ylabel("FLIP against the ground truth")

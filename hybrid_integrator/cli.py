@@ -39,6 +39,8 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")
     g.add_argument("--max-depth", dest="max_depth", type=int, help="as Mitsuba's path (-1: unlimited)")
     g.add_argument("--rr-depth", dest="rr_depth", type=int, help="as Mitsuba's path: the depth where Russian roulette starts")
+    g.add_argument("--secondary-spp", dest="secondary_spp", type=int,
+                   help="paths traced from each traced pixel's primary hit, in one launch (default: 1)")
     g.add_argument("--budget-ms", dest="budget_ms", type=float, help="frame-time budget for ray tracing (0: unlimited)")
     g.add_argument("--hide-emitters", dest="hide_emitters", action="store_true", default=None)
     g.add_argument("--denoise", action=argparse.BooleanOptionalAction, default=None,
@@ -51,7 +53,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
 
 
 def _properties(args) -> dict:
-    names = ("primary", "effects", "candidates", "blend", "max_depth", "rr_depth", "budget_ms", "hide_emitters", "denoise",
+    names = ("primary", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
              "denoise_quality", "learn_ambient", "shadow_tier")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 

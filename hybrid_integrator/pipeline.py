@@ -81,6 +81,7 @@ class HybridSettings:
     denoise: bool = True
     denoise_quality: str = "fast"
     temporal: bool = False
+    secondary_spp: int = 1
     learn_ambient: bool = True
     shadow_tier: bool = True
 
@@ -114,6 +115,8 @@ class HybridSettings:
             raise HybridError(f"max_depth={self.max_depth} must be -1 (unlimited) or >= 0")
         if self.rr_depth < 1:
             raise HybridError(f"rr_depth={self.rr_depth} must be >= 1")
+        if self.secondary_spp < 1:
+            raise HybridError(f"secondary_spp={self.secondary_spp} must be >= 1 (paths traced from each primary hit)")
 
 
 @dataclass
@@ -265,6 +268,10 @@ class PassStatic:
     #: traces: their pixels add the learnt indirect term instead (the shadow tier, heuristic.py)
     modelled: tuple[int, ...]
     surface: bool  # keep the first pass's surface for the temporal history (temporal.py)
+    #: also splat the colour in the film's filter, for the history, where ``box_filter`` splats it
+    #: in a box for the denoiser (temporal.py)
+    film_copy: bool
+    secondary_spp: int  # paths traced from each traced primary hit (trace.py)
 
 
 @dataclass
@@ -295,6 +302,7 @@ class PassOutput:
     aovs: dict
     guides: object = None  # the guide block (albedo, normal, weight) or None
     surface: Surface | None = None  # what the pass hit, per pixel (for the history)
+    film: object = None  # the colour block in the film's filter (``PassStatic.film_copy``) or None
 
 
 @dataclass
@@ -351,7 +359,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                        static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                        n_objects=static.n_objects, first_effects=static.configs,
-                                       first_config=selection.config, keep_direct=bool(static.modelled))
+                                       first_config=selection.config, keep_direct=bool(static.modelled),
+                                       paths=static.secondary_spp)
     full, tier = selection.traced, None
     if static.modelled:  # pixels traced without their indirect light take the learnt term for it
         modelled = mi.Bool(False)
@@ -384,7 +393,11 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(selection.traced, 1.0, 0.0),
                               mi.Float(1.0)])
         layers = layer_block.tensor()
-    guides = surface = None
+    guides = surface = film_block = None
+    if static.film_copy:
+        film_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 4, film.rfilter())
+        film_block.put(pixel + offset, [color.x, color.y, color.z, mi.Float(1.0)])
+        film_block = film_block.tensor()
     if static.guides:  # the denoiser's guides (denoise.py), filtered like the colour
         albedo = [dr.clip(a + s, 0.0, 1.0) for a, s in zip(targets["albedo"], targets["specular"])]
         albedo = [dr.select(hits.valid, a, dr.clip(c, 0.0, 1.0)) for a, c in zip(albedo, (color.x, color.y, color.z))]
@@ -395,8 +408,9 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         surface = Surface(position=mi.Point3f(*targets["position"]), normal=mi.Vector3f(*targets["normal"]),
                           object=dr.select(hits.valid, hits.object, 0xFFFFFFFF))
     packed = dr.concat([counts.per_object, dr.reinterpret_array(mi.UInt32, sums.total())])
-    clock.mark("compose", block.tensor(), layers, packed, guides, surface)
-    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs, guides=guides, surface=surface)
+    clock.mark("compose", block.tensor(), layers, packed, guides, surface, film_block)
+    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs, guides=guides, surface=surface,
+                      film=film_block)
 
 
 @functools.lru_cache(maxsize=None)
@@ -536,7 +550,9 @@ class HybridRenderer:
             box_filter=settings.denoise or film.rfilter().is_box_filter(),
             has_emitters=len(self.scene.emitters()) > 0,
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
-            n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled)
+            n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled,
+            film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
+            secondary_spp=settings.secondary_spp)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
 
@@ -544,7 +560,8 @@ class HybridRenderer:
               outputs: list[PassOutput]) -> mi.TensorXf:
         """After the film: the frame blended with its reprojected history (``temporal.py``), then
         denoised with the G-buffer's guides (``denoise.py``) if it traced anything (the raster
-        layer alone is noise-free); alpha, if the film has it, is kept."""
+        layer alone is noise-free), and the denoised history resolved against the history's
+        film-filtered mean; alpha, if the film has it, is kept."""
         if not (settings.temporal or settings.denoise):
             state.history = None
             return image
@@ -554,7 +571,11 @@ class HybridRenderer:
                 self._accumulators[settings.freeze] = Accumulator(settings.freeze,
                                                                   lambda *out: self.clock.mark("temporal", *out))
             accumulate = self._accumulators[settings.freeze]
-            rgb, state.history = accumulate(rgb, outputs[0].surface, frame.camera, state.history)
+            film = None
+            if outputs[0].film is not None:
+                sums = sum_tensors([o.film for o in outputs])
+                film = sums[..., 0:3] / dr.maximum(sums[..., 3:4], 1e-12)
+            rgb, state.history = accumulate(rgb, film, outputs[0].surface, frame.camera, state.history)
         else:
             state.history = None
         if settings.denoise and frame.traces:  # a frame that traces nothing has no noise to remove
@@ -565,6 +586,8 @@ class HybridRenderer:
             denoiser = self._denoisers[settings.denoise_quality]
             rgb = denoiser(rgb, Guides(albedo=guide[0], normal=guide[1]))
             frame.denoiser = denoiser
+            if settings.temporal:
+                rgb = self._accumulators[settings.freeze].resolve(rgb, state.history)
         return rgb if image.shape[2] == 3 else dr.concat([rgb, image[..., 3:]], axis=2)
 
     def _select(self, settings: HybridSettings, frame: _Frame, state: FrameState, seed: int) -> tuple[FramePlan | None, mi.Int32]:

@@ -19,8 +19,18 @@ that moved) restarts from the current frame, so nothing ghosts.
   α = 1/16 beyond that).
 
 The accumulated colour is what is denoised (``denoise.py``), as real-time renderers do; the
-history keeps the colour before denoising. The whole update is one frozen Dr.Jit function over
-device arrays: the cameras and the frame cap are data, so a moving camera replays the same kernel.
+history keeps the colour before denoising. A denoiser helps a young history and hurts an old one:
+its output is a little blurred (a bias that more frames do not remove), and it sees the colour in
+a box filter (it needs each pixel's own samples), while the film's filter (a tent, a Gaussian)
+defines the image. So the history also keeps the mean of the colour's square and, where the film's
+filter is not a box, the colour splatted in it; the denoised image is then *resolved* against that
+film-filtered mean, per pixel, by how much of their difference the mean's own noise explains
+(:func:`_resolve`): a young or noisy history shows the denoised image, a converged one its mean,
+which converges to the film's image, Mitsuba's ``path`` at infinitely many samples (the bench's
+still-camera rows, docs/results/README.md).
+
+The whole update is one frozen Dr.Jit function over device arrays, and so is the resolve: the
+cameras and the frame cap are data, so a moving camera replays the same kernels.
 """
 from __future__ import annotations
 
@@ -51,6 +61,8 @@ class History:
     """The accumulated frames, as the next frame reprojects them."""
 
     color: mi.Float  # H·W·3 running mean (before denoising)
+    square: mi.Float  # H·W·3 running mean of the colour squared (the mean's variance, :func:`resolve`)
+    film: mi.Float  # H·W·3 running mean of the colour in the film's filter (``color`` where that is it)
     count: mi.Float  # per pixel, the frames in that mean
     surface: Surface
     world_to_clip: np.ndarray  # the camera of the last frame (RasterCamera.world_to_clip)
@@ -59,10 +71,12 @@ class History:
     height: int
 
 
-def _accumulate(color: mi.Float, surface: Surface, eye: mi.Float, history_color: mi.Float, history_count: mi.Float,
-                history_surface: Surface, camera: mi.Float, width: int, height: int):
+def _accumulate(color: mi.Float, film: mi.Float, surface: Surface, eye: mi.Float, history: list[mi.Float],
+                history_count: mi.Float, history_surface: Surface, camera: mi.Float, width: int, height: int):
     """The frozen update: ``camera`` holds the previous world → clip matrix (row-major, 16
-    floats), then the frame cap, then whether the camera is still (1/0)."""
+    floats), then the frame cap, then whether the camera is still (1/0). ``history`` holds the
+    running means of the colour, its square and the film-filtered colour; returns their new
+    values and the count."""
     n = width * height
     m = [dr.gather(mi.Float, camera, k) for k in range(16)]
     p = surface.position
@@ -85,48 +99,98 @@ def _accumulate(color: mi.Float, surface: Surface, eye: mi.Float, history_color:
     prev = dr.select(still, index, prev)
     count = dr.minimum(dr.select(same, dr.gather(mi.Float, history_count, prev), 0.0) + 1.0, cap)
     a = dr.rcp(count)
-    out = []
+    means = [dr.zeros(mi.Float, 3 * n) for _ in history]
     for c in range(3):
         current = dr.gather(mi.Float, color, index * 3 + c)
-        old = dr.gather(mi.Float, history_color, prev * 3 + c)
-        out.append(dr.select(same, dr.fma(current - old, a, old), current))
-    blended = dr.zeros(mi.Float, 3 * n)
-    for c in range(3):
-        dr.scatter(blended, out[c], index * 3 + c)
-    return blended, count
+        now = (current, current * current, dr.gather(mi.Float, film, index * 3 + c))
+        for mean, value, old_mean in zip(means, now, history):
+            old = dr.gather(mi.Float, old_mean, prev * 3 + c)
+            dr.scatter(mean, dr.select(same, dr.fma(value - old, a, old), value), index * 3 + c)
+    return means, count
+
+
+def _resolve(denoised: mi.Float, color: mi.Float, square: mi.Float, film: mi.Float, count: mi.Float, width: int,
+             height: int) -> mi.Float:
+    """The frozen resolve of :meth:`Accumulator.resolve`: per pixel and channel, the history's
+    film-filtered mean ``f`` and the denoised ``d`` mixed as ``d + w (f − d)``, with
+    ``w = b² / (b² + v)``: ``v`` the variance of the mean (from the running mean of the squares,
+    raised by three standard errors of a sample variance of ``count`` frames: few frames give a
+    variance that is often far too small), ``b² = (d − f)² − 2v`` (at least 0) the part of the
+    difference that noise does not explain, i.e. the denoiser's bias; both averaged over 3×3
+    pixels (one pixel's estimate is too noisy). Fewer than 3 frames: the denoised image."""
+    n = width * height
+    index = dr.arange(mi.UInt32, 3 * n)
+    pixel = index // 3
+    frames = dr.gather(mi.Float, count, pixel)
+    dof = dr.maximum(frames - 1.0, 1.0)
+    mean = dr.gather(mi.Float, color, index)
+    var = dr.maximum(dr.gather(mi.Float, square, index) - mean * mean, 0.0) / dof * (1.0 + 3.0 * dr.sqrt(2.0 / dof))
+    d, f = dr.gather(mi.Float, denoised, index), dr.gather(mi.Float, film, index)
+    bias = dr.maximum(dr.square(d - f) - 2.0 * var, 0.0)
+    dr.eval(var, bias)
+    x, y, channel = mi.Int32(pixel % width), mi.Int32(pixel // width), index % 3
+    var_sum, bias_sum = mi.Float(0.0), mi.Float(0.0)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            neighbour = (mi.UInt32(dr.clip(y + dy, 0, height - 1)) * width + mi.UInt32(dr.clip(x + dx, 0, width - 1))) * 3 + channel
+            var_sum += dr.gather(mi.Float, var, neighbour)
+            bias_sum += dr.gather(mi.Float, bias, neighbour)
+    w = dr.select((frames >= 3.0) & (bias_sum > 0.0), bias_sum / (bias_sum + var_sum), 0.0)
+    return dr.fma(w, f - d, d)
 
 
 class Accumulator:
-    """The history of one image size, updated by one frozen function per frame."""
+    """The history of one image size, updated by one frozen function per frame, and the resolve
+    of a denoised frame against it."""
 
     def __init__(self, freeze: bool = True, mark=None):
-        """``mark(*arrays)``, if given, is called with the update's outputs where its body runs
-        (unfrozen, or while ``dr.freeze`` records it): the stage clock's
-        :meth:`~hybrid_integrator.pipeline.StageClock.mark`, which reads Dr.Jit's kernel history
-        and so waits for the device. A replay does not run the body, so a frozen update adds no
-        synchronization to the frame."""
+        """``mark(*arrays)``, if given, is called with the outputs of the update and of the
+        resolve where their bodies run (unfrozen, or while ``dr.freeze`` records them): the stage
+        clock's :meth:`~hybrid_integrator.pipeline.StageClock.mark`, which reads Dr.Jit's kernel
+        history and so waits for the device. A replay does not run the body, so a frozen update
+        adds no synchronization to the frame."""
+        mark = mark or (lambda *arrays: None)
 
         def update(*args):
-            blended, count = _accumulate(*args)
-            if mark is not None:
-                mark(blended, count)
-            return blended, count
+            means, count = _accumulate(*args)
+            mark(*means, count)
+            return means, count
+
+        def resolve(*args):
+            out = _resolve(*args)
+            mark(out)
+            return out
 
         self._update = dr.freeze(update) if freeze else update
+        self._resolve = dr.freeze(resolve) if freeze else resolve
 
-    def __call__(self, color: mi.TensorXf, surface: Surface, camera, history: History | None) -> tuple[mi.TensorXf, History]:
-        """``color`` (H×W×3) with the reprojected history blended in; returns it and the new history."""
+    def __call__(self, color: mi.TensorXf, film: mi.TensorXf | None, surface: Surface, camera,
+                 history: History | None) -> tuple[mi.TensorXf, History]:
+        """``color`` (H×W×3) with the reprojected history blended in; returns it and the new
+        history. ``film``: the same frame in the film's filter where ``color`` is not (the
+        denoiser's box-filtered input), else None."""
         height, width = color.shape[0], color.shape[1]
         flat = color.array
+        film = flat if film is None else film.array
         if history is None or (history.width, history.height) != (width, height):
             count = dr.full(mi.Float, 1.0, width * height)
-            blended = mi.Float(flat)
+            means = [mi.Float(flat), flat * flat, mi.Float(film)]
         else:
             still = np.array_equal(history.world_to_clip, camera.world_to_clip)
             data = mi.Float(np.r_[history.world_to_clip.ravel(), STILL_FRAMES if still else MOTION_FRAMES,
                                   1.0 if still else 0.0].astype(np.float32))
-            blended, count = self._update(flat, surface, mi.Float(np.asarray(camera.eye, np.float32)), history.color,
-                                          history.count, history.surface, data, width, height)
-        new = History(color=blended, count=count, surface=surface, world_to_clip=camera.world_to_clip.copy(),
-                      eye=np.asarray(camera.eye).copy(), width=width, height=height)
-        return mi.TensorXf(blended, (height, width, 3)), new
+            means, count = self._update(flat, film, surface, mi.Float(np.asarray(camera.eye, np.float32)),
+                                        [history.color, history.square, history.film], history.count,
+                                        history.surface, data, width, height)
+        new = History(color=means[0], square=means[1], film=means[2], count=count, surface=surface,
+                      world_to_clip=camera.world_to_clip.copy(), eye=np.asarray(camera.eye).copy(), width=width,
+                      height=height)
+        return mi.TensorXf(means[0], (height, width, 3)), new
+
+    def resolve(self, denoised: mi.TensorXf, history: History) -> mi.TensorXf:
+        """The denoised history mixed with its film-filtered mean where the denoiser's bias
+        outweighs the mean's noise (:func:`_resolve`): the denoiser helps a young history, and a
+        long one converges to the film's image, not to the denoiser's."""
+        out = self._resolve(denoised.array, history.color, history.square, history.film, history.count,
+                            history.width, history.height)
+        return mi.TensorXf(out, (history.height, history.width, 3))

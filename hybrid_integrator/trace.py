@@ -76,7 +76,7 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   seed: mi.UInt64, obj: mi.UInt32, n_objects: int,
                   first_effects: tuple[tuple[str, ...], ...] | None = None,
                   first_config: mi.UInt32 | None = None,
-                  keep_direct: bool = False) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
+                  keep_direct: bool = False, paths: int = 1) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
     With ``keep_direct``, also returns the light of each path's first vertex alone (its emission
@@ -88,29 +88,41 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     uses ``first_effects[first_config[i]]`` (default: ``effects`` everywhere), so objects with
     different kinds are traced in one call; deeper vertices use ``effects``. The traced pixels are
     compacted first (``selection.compact``), so the paths run on the first lanes only. The rays
-    are counted per object (``obj`` per pixel, of ``n_objects``): what the cost model learns from."""
+    are counted per object (``obj`` per pixel, of ``n_objects``): what the cost model learns from.
+
+    ``paths`` > 1 traces that many independent paths from each traced pixel's one primary hit, in
+    the same kernel launch, and returns their mean: the raster draws each hit once, and one launch
+    of ``paths``× the lanes costs the GPU less per path than as many launches (a launch of one
+    path per pixel ends in a tail of few long paths; docs/results/README.md has the measured cost
+    per path). The sub-pixel position, hence antialiasing, still varies only from pass to pass
+    (and frame to frame)."""
     n = dr.width(traced)
     width = max(n_objects, 1)
     if first_effects == ():  # no object deserves any effect: nothing can be traced
         return dr.zeros(mi.Color3f, n), None, TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
     pixel, active, slot = compact(traced)  # only the selected pixels are traced: cost follows the selection
-    ray = dr.gather(mi.Ray3f, ray, pixel, active)
-    si = dr.gather(mi.SurfaceInteraction3f, si, pixel, active)
+    # the lanes of the paths: ``paths`` consecutive lanes per traced pixel, so the busy lanes stay in front
+    path_pixel, path_active, stream = (pixel, active, pixel) if paths == 1 else _lanes_of(pixel, active, paths)
+    ray = dr.gather(mi.Ray3f, ray, path_pixel, path_active)
+    si = dr.gather(mi.SurfaceInteraction3f, si, path_pixel, path_active)
     first = tuple(Lobes.of(e) for e in (first_effects if first_effects is not None else (effects,)))
     # the lobe set of each traced pixel (None: one set for all)
-    config = dr.gather(mi.UInt32, first_config, pixel, active) if len(first) > 1 else None
-    # one stream per pixel, whatever else is traced: seed() (unlike the constructor) adds no lane
-    # offset. The initial state is hashed from (pixel, pass seed) with TEA, as Mitsuba's samplers
-    # do: PCG32 states that differ by a small constant (pass 0, 1, 2, ...) give correlated
-    # sequences, whose noise then does not average out over passes or frames
-    rng = mi.PCG32(n)
+    config = dr.gather(mi.UInt32, first_config, path_pixel, path_active) if len(first) > 1 else None
+    # one stream per pixel (and path), whatever else is traced: seed() (unlike the constructor)
+    # adds no lane offset. The initial state is hashed from (stream, pass seed) with TEA, as
+    # Mitsuba's samplers do: PCG32 states that differ by a small constant (pass 0, 1, 2, ...) give
+    # correlated sequences, whose noise then does not average out over passes or frames
+    rng = mi.PCG32(n * paths)
     s = dr.gather(mi.UInt64, seed, 0)
     key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
-    rng.seed(mi.sample_tea_64(pixel, key), mi.UInt64(pixel))
-    L, first_light, rays = _paths(scene, ray, si, rng, config, active, first, Lobes.of(effects), max_depth, rr_depth,
-                                  hide_emitters)
+    rng.seed(mi.sample_tea_64(stream, key), mi.UInt64(stream))
+    L, first_light, rays = _paths(scene, ray, si, rng, config, path_active, first, Lobes.of(effects), max_depth,
+                                  rr_depth, hide_emitters)
     first_light = first_light if keep_direct else None  # not written by the kernel where no one reads it
     dr.eval(L, first_light, rays)  # one kernel: the loop runs once for all
+    if paths > 1:  # each pixel's mean; its rays, all of them
+        L, first_light = (None if c is None else dr.block_sum(c, paths) / paths for c in (L, first_light))
+        rays = [dr.block_sum(r, paths) for r in rays]
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
     direct = None if first_light is None else dr.select(traced, dr.gather(mi.Color3f, first_light, slot, traced), 0.0)
     objects = dr.gather(mi.UInt32, obj, pixel, active)
@@ -119,6 +131,16 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
         per_object.add(r, k * width + objects, active)
     per_object.add(mi.UInt32(1), mi.UInt32(len(RAY_KINDS) * width), active)
     return radiance, direct, TraceCounts(per_object=per_object.total())
+
+
+def _lanes_of(pixel: mi.UInt32, active: mi.Bool, paths: int) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
+    """``paths`` lanes per compacted lane: lane ``j·paths + k`` is path ``k`` of the ``j``-th
+    traced pixel. Returns each lane's pixel, whether it is busy, and its random stream
+    (``pixel·paths + k``: with one path, the pixel itself)."""
+    lane = dr.arange(mi.UInt32, dr.width(pixel) * paths)
+    j = lane // paths
+    path_pixel = dr.gather(mi.UInt32, pixel, j)
+    return path_pixel, dr.gather(mi.Bool, active, j), path_pixel * paths + lane % paths
 
 
 @dataclass

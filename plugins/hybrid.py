@@ -18,6 +18,7 @@
         <boolean name="denoise" value="true"/>         <!-- Open Image Denoise, G-buffer guides -->
         <string name="denoise_quality" value="fast"/>  <!-- or "balanced", "high" -->
         <boolean name="temporal" value="false"/>       <!-- accumulate frames, reprojected -->
+        <integer name="secondary_spp" value="1"/>      <!-- paths traced from each primary hit -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
         <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
     </integrator>
@@ -64,6 +65,11 @@ Properties
                  buffer (``hybrid_integrator/temporal.py``): a still camera converges, a moving one
                  keeps up to 16 frames of history where the same surface is seen. The history is
                  kept by the integrator between ``render`` calls: give each call its own ``seed``.
+``secondary_spp`` paths traced from each traced pixel's primary hit per pass (default 1), in one
+                 kernel launch, averaged: the raster draws each hit once, and one launch of k× the
+                 lanes costs the GPU less per path than k launches (``spp`` passes, instead, each
+                 draw and trace their own jittered hits: antialiasing within the frame). For a
+                 still camera with ``temporal``, whose frames add the antialiasing.
 ``learn_ambient`` add to the raster layer, per object, ``albedo × E`` with ``E`` the ambient
                  irradiance learnt from that object's traced pixels in earlier frames (the cheap
                  model of indirect light and shadowing where nothing is traced this frame;

@@ -28,11 +28,17 @@ def test_bench_report_has_every_field(tmp_path):
     names = [m["method"] for m in report["methods"]]
     assert names == ["raster", "hybrid", "rt-baseline", "hybrid@0%", "hybrid@50%", "hybrid, no denoiser",
                      "hybrid, denoiser 'high'", "hybrid 2 spp", "hybrid 4 spp", "hybrid 2 spp, denoiser 'high'",
-                     "hybrid+history", "path@1spp",
-                     "path@2spp", "path@equal-time", "path@history-time", "path+denoiser@1spp",
-                     "path+denoiser@2spp", "path+denoiser@4spp"]
-    history = next(m for m in report["methods"] if m["method"] == "hybrid+history")
-    assert history["frames_accumulated"] == report["frames"] + 3
+                     "hybrid+history", "hybrid+history@1", "hybrid+history@2",
+                     "hybrid+history, 8 paths/hit", "hybrid+history, 8 paths/hit@1", "hybrid+history, 8 paths/hit@2",
+                     "path@1spp", "path@2spp", "path@equal-time", "path@history-time",
+                     "path@history-time, 8 paths/hit", "path+denoiser@1spp", "path+denoiser@2spp", "path+denoiser@4spp"]
+    by_name = {m["method"]: m for m in report["methods"]}
+    for name in ("hybrid+history", "hybrid+history, 8 paths/hit"):  # all frames, and the first ones
+        assert [by_name[f"{name}{at}"]["frames_accumulated"] for at in ("@1", "@2", "")] == [1, 2, report["frames"] + 3]
+    # eight paths per hit: as many pixels, eight times the rays, more time per frame
+    one, eight = by_name["hybrid+history"], by_name["hybrid+history, 8 paths/hit"]
+    assert one["pixels_traced"] == eight["pixels_traced"] and eight["secondary_rays"] > 6 * one["secondary_rays"]
+    assert by_name["path@history-time, 8 paths/hit"]["spp"] >= by_name["path@history-time"]["spp"]
     for m in report["methods"]:
         assert set(m) == {f.name for f in fields(Measurement)}
         assert m["time_ms"] > 0 and 0 < m["flip"] < 1 and math.isfinite(m["rel_mse"]) and m["delta_e2000"] >= 0
