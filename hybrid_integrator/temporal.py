@@ -109,6 +109,29 @@ def _accumulate(color: mi.Float, film: mi.Float, surface: Surface, eye: mi.Float
     return means, count
 
 
+#: half-widths of the windows the resolve averages its estimates over: the mean's variance over
+#: 7×7 pixels (heavy-tailed noise: a pixel that has not yet drawn a rare bright path looks
+#: certain, its neighbours that have tell), the denoiser's bias over 3×3 (it is local: edges)
+VARIANCE_RADIUS, BIAS_RADIUS = 3, 1
+
+
+def _window_mean(values: mi.Float, radius: int, width: int, height: int) -> mi.Float:
+    """The mean of H·W·3 ``values`` over (2·radius+1)² pixels, per channel, clamped at the
+    borders: a box filter, one pass per axis."""
+    index = dr.arange(mi.UInt32, dr.width(values))
+    pixel, channel = index // 3, index % 3
+    x, y = mi.Int32(pixel % width), mi.Int32(pixel // width)
+    for axis in (0, 1):
+        total = mi.Float(0.0)
+        for step in range(-radius, radius + 1):
+            nx = dr.clip(x + step, 0, width - 1) if axis == 0 else x
+            ny = dr.clip(y + step, 0, height - 1) if axis == 1 else y
+            total += dr.gather(mi.Float, values, (mi.UInt32(ny) * width + mi.UInt32(nx)) * 3 + channel)
+        values = total / (2 * radius + 1)
+        dr.eval(values)
+    return values
+
+
 def _resolve(denoised: mi.Float, color: mi.Float, square: mi.Float, film: mi.Float, count: mi.Float, width: int,
              height: int) -> mi.Float:
     """The frozen resolve of :meth:`Accumulator.resolve`: per pixel and channel, the history's
@@ -116,26 +139,18 @@ def _resolve(denoised: mi.Float, color: mi.Float, square: mi.Float, film: mi.Flo
     ``w = b² / (b² + v)``: ``v`` the variance of the mean (from the running mean of the squares,
     raised by three standard errors of a sample variance of ``count`` frames: few frames give a
     variance that is often far too small), ``b² = (d − f)² − 2v`` (at least 0) the part of the
-    difference that noise does not explain, i.e. the denoiser's bias; both averaged over 3×3
-    pixels (one pixel's estimate is too noisy). Fewer than 3 frames: the denoised image."""
-    n = width * height
-    index = dr.arange(mi.UInt32, 3 * n)
-    pixel = index // 3
-    frames = dr.gather(mi.Float, count, pixel)
+    difference that noise does not explain, i.e. the denoiser's bias; each averaged over a window
+    (one pixel's estimate is too noisy: ``VARIANCE_RADIUS``, ``BIAS_RADIUS``). Fewer than 3
+    frames: the denoised image."""
+    index = dr.arange(mi.UInt32, 3 * width * height)
+    frames = dr.gather(mi.Float, count, index // 3)
     dof = dr.maximum(frames - 1.0, 1.0)
     mean = dr.gather(mi.Float, color, index)
     var = dr.maximum(dr.gather(mi.Float, square, index) - mean * mean, 0.0) / dof * (1.0 + 3.0 * dr.sqrt(2.0 / dof))
     d, f = dr.gather(mi.Float, denoised, index), dr.gather(mi.Float, film, index)
     bias = dr.maximum(dr.square(d - f) - 2.0 * var, 0.0)
-    dr.eval(var, bias)
-    x, y, channel = mi.Int32(pixel % width), mi.Int32(pixel // width), index % 3
-    var_sum, bias_sum = mi.Float(0.0), mi.Float(0.0)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            neighbour = (mi.UInt32(dr.clip(y + dy, 0, height - 1)) * width + mi.UInt32(dr.clip(x + dx, 0, width - 1))) * 3 + channel
-            var_sum += dr.gather(mi.Float, var, neighbour)
-            bias_sum += dr.gather(mi.Float, bias, neighbour)
-    w = dr.select((frames >= 3.0) & (bias_sum > 0.0), bias_sum / (bias_sum + var_sum), 0.0)
+    var, bias = _window_mean(var, VARIANCE_RADIUS, width, height), _window_mean(bias, BIAS_RADIUS, width, height)
+    w = dr.select((frames >= 3.0) & (bias > 0.0), bias / (bias + var), 0.0)
     return dr.fma(w, f - d, d)
 
 
