@@ -437,6 +437,13 @@ class _Frame:
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
 
+def _normalized(block: mi.TensorXf, first: int) -> mi.TensorXf:
+    """Three channels of a splatted block from ``first`` on, divided by the block's weight (its
+    last channel)."""
+    weight = block.shape[2] - 1
+    return block[..., first:first + 3] / dr.maximum(block[..., weight:weight + 1], 1e-12)
+
+
 def develop(sensor: mi.Sensor, block: mi.TensorXf) -> mi.TensorXf:
     """The passes' splats into the sensor's film, developed as ``mi.render`` returns it (a few
     small kernels that Mitsuba's C++ film traces quickly: not worth a frozen function)."""
@@ -571,16 +578,13 @@ class HybridRenderer:
                 self._accumulators[settings.freeze] = Accumulator(settings.freeze,
                                                                   lambda *out: self.clock.mark("temporal", *out))
             accumulate = self._accumulators[settings.freeze]
-            film = None
-            if outputs[0].film is not None:
-                sums = sum_tensors([o.film for o in outputs])
-                film = sums[..., 0:3] / dr.maximum(sums[..., 3:4], 1e-12)
+            film = None if outputs[0].film is None else _normalized(sum_tensors([o.film for o in outputs]), 0)
             rgb, state.history = accumulate(rgb, film, outputs[0].surface, frame.camera, state.history)
         else:
             state.history = None
         if settings.denoise and frame.traces:  # a frame that traces nothing has no noise to remove
             sums = sum_tensors([o.guides for o in outputs])
-            guide = [sums[..., k:k + 3] / dr.maximum(sums[..., 6:7], 1e-12) for k in (0, 3)]
+            guide = [_normalized(sums, k) for k in (0, 3)]
             if settings.denoise_quality not in self._denoisers:
                 self._denoisers[settings.denoise_quality] = Denoiser(settings.denoise_quality)
             denoiser = self._denoisers[settings.denoise_quality]

@@ -62,7 +62,7 @@ class History:
 
     color: mi.Float  # H·W·3 running mean (before denoising)
     square: mi.Float  # H·W·3 running mean of the colour squared (the mean's variance, :func:`resolve`)
-    film: mi.Float  # H·W·3 running mean of the colour in the film's filter (``color`` where that is it)
+    film: mi.Float | None  # H·W·3 running mean of the colour in the film's filter (None: ``color`` is in it)
     count: mi.Float  # per pixel, the frames in that mean
     surface: Surface
     world_to_clip: np.ndarray  # the camera of the last frame (RasterCamera.world_to_clip)
@@ -71,12 +71,12 @@ class History:
     height: int
 
 
-def _accumulate(color: mi.Float, film: mi.Float, surface: Surface, eye: mi.Float, history: list[mi.Float],
+def _accumulate(color: mi.Float, film: mi.Float | None, surface: Surface, eye: mi.Float, history: list[mi.Float],
                 history_count: mi.Float, history_surface: Surface, camera: mi.Float, width: int, height: int):
     """The frozen update: ``camera`` holds the previous world → clip matrix (row-major, 16
     floats), then the frame cap, then whether the camera is still (1/0). ``history`` holds the
-    running means of the colour, its square and the film-filtered colour; returns their new
-    values and the count."""
+    running means of the colour, its square and, unless ``film`` is None, the film-filtered
+    colour; returns their new values and the count."""
     n = width * height
     m = [dr.gather(mi.Float, camera, k) for k in range(16)]
     p = surface.position
@@ -102,7 +102,7 @@ def _accumulate(color: mi.Float, film: mi.Float, surface: Surface, eye: mi.Float
     means = [dr.zeros(mi.Float, 3 * n) for _ in history]
     for c in range(3):
         current = dr.gather(mi.Float, color, index * 3 + c)
-        now = (current, current * current, dr.gather(mi.Float, film, index * 3 + c))
+        now = (current, current * current) + (() if film is None else (dr.gather(mi.Float, film, index * 3 + c),))
         for mean, value, old_mean in zip(means, now, history):
             old = dr.gather(mi.Float, old_mean, prev * 3 + c)
             dr.scatter(mean, dr.select(same, dr.fma(value - old, a, old), value), index * 3 + c)
@@ -186,26 +186,28 @@ class Accumulator:
         denoiser's box-filtered input), else None."""
         height, width = color.shape[0], color.shape[1]
         flat = color.array
-        film = flat if film is None else film.array
-        if history is None or (history.width, history.height) != (width, height):
+        film = None if film is None else film.array
+        restart = history is None or (history.width, history.height) != (width, height)
+        if restart or (history.film is None) != (film is None):  # a new size, or another filter
             count = dr.full(mi.Float, 1.0, width * height)
-            means = [mi.Float(flat), flat * flat, mi.Float(film)]
+            means = [mi.Float(flat), flat * flat] + ([] if film is None else [mi.Float(film)])
         else:
             still = np.array_equal(history.world_to_clip, camera.world_to_clip)
             data = mi.Float(np.r_[history.world_to_clip.ravel(), STILL_FRAMES if still else MOTION_FRAMES,
                                   1.0 if still else 0.0].astype(np.float32))
-            means, count = self._update(flat, film, surface, mi.Float(np.asarray(camera.eye, np.float32)),
-                                        [history.color, history.square, history.film], history.count,
-                                        history.surface, data, width, height)
-        new = History(color=means[0], square=means[1], film=means[2], count=count, surface=surface,
-                      world_to_clip=camera.world_to_clip.copy(), eye=np.asarray(camera.eye).copy(), width=width,
-                      height=height)
+            kept = [history.color, history.square] + ([] if film is None else [history.film])
+            means, count = self._update(flat, film, surface, mi.Float(np.asarray(camera.eye, np.float32)), kept,
+                                        history.count, history.surface, data, width, height)
+        new = History(color=means[0], square=means[1], film=means[2] if len(means) > 2 else None, count=count,
+                      surface=surface, world_to_clip=camera.world_to_clip.copy(), eye=np.asarray(camera.eye).copy(),
+                      width=width, height=height)
         return mi.TensorXf(means[0], (height, width, 3)), new
 
     def resolve(self, denoised: mi.TensorXf, history: History) -> mi.TensorXf:
         """The denoised history mixed with its film-filtered mean where the denoiser's bias
         outweighs the mean's noise (:func:`_resolve`): the denoiser helps a young history, and a
         long one converges to the film's image, not to the denoiser's."""
-        out = self._resolve(denoised.array, history.color, history.square, history.film, history.count,
-                            history.width, history.height)
+        film = history.color if history.film is None else history.film
+        out = self._resolve(denoised.array, history.color, history.square, film, history.count, history.width,
+                            history.height)
         return mi.TensorXf(out, (history.height, history.width, 3))
