@@ -5,7 +5,8 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 
 - ``raster``: the raster layer alone (``candidates=""``): its frame time (raster, deferred
   lighting, composition; nothing traced) is the paper's **DR** (deferred rendering time), shown
-  beside the GPU time of its OpenGL draw alone (``gl_ms``, a GL timer query);
+  beside the GPU time of its OpenGL pass alone (``gl_ms``, a GL timer query: the draw, or the
+  compute shaders of ``raster="compute"``, the default on CUDA);
 - ``rt-baseline``: ``primary="raytrace"``, every candidate traced: the paper's **RT**;
 - ``hybrid``: raster primaries, every candidate traced: the paper's **Hybrid**; Gain = RT / Hybrid;
 - ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
@@ -36,6 +37,7 @@ resolution.
 from __future__ import annotations
 
 import json
+import math
 import platform
 import re
 import statistics
@@ -296,14 +298,16 @@ def _children(jobs: list[tuple[str, Path, list[str]]], workers: Workers, desc: s
 
 def run(specs: list[str], out_dir: Path, options: list[str], command: str, workers: Workers = Workers()) -> list[dict]:
     """Bench each scene in its own process (see module docstring; on Ray workers with
-    ``workers``); write ``out_dir/NAME.json``, ``bench.json``, ``bench.md`` and ``NAME.png``."""
+    ``workers``); write ``out_dir/NAME.json``, ``bench.json``, ``bench.md`` and, where the errors
+    were measured (not ``--no-accuracy``), the time–FLIP chart ``NAME.png``."""
     names = [spec.replace(":", "_") if spec.startswith("procedural:") else Path(spec).stem for spec in specs]
     reports = _children([(spec, out_dir / f"{name}.json", options) for spec, name in zip(specs, names)], workers,
                         "scenes")
     for name, report in zip(names, reports):
         report["command"] = command
         (out_dir / f"{name}.json").write_text(json.dumps(report, indent=2))
-        chart(report, out_dir / f"{name}.png")
+        if any(math.isfinite(m["flip"]) for m in report["methods"]):
+            chart(report, out_dir / f"{name}.png")
     (out_dir / "bench.json").write_text(json.dumps(reports, indent=2))
     (out_dir / "bench.md").write_text(tables(reports, [command]) + "\n")
     return reports
@@ -317,9 +321,9 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",
-             "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL draw "
-             "alone (GPU time); `path`: Mitsuba's path tracer at 1 spp on the same scene.", "",
-             "| scene | vertices | triangles | shapes | DR | GL draw | RT | Hybrid | Gain | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
+             "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL pass "
+             "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene.", "",
+             "| scene | vertices | triangles | shapes | DR | GL pass | RT | Hybrid | Gain | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in reports:
         p = PAPER.get(r["name"], {})

@@ -34,6 +34,8 @@ def _define(text: str) -> tuple[str, str]:
 def _integrator_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("hybrid integrator properties (default: the integrator's own)")
     g.add_argument("--primary", choices=("raster", "raytrace"), help="where primary hits come from")
+    g.add_argument("--raster", choices=("auto", "draw", "compute"),
+                   help="how the raster pass rasterizes: OpenGL's draw or compute shaders (default: auto, compute on CUDA)")
     g.add_argument("--effects", help="comma list of shadow, reflection, refraction, indirect")
     g.add_argument("--candidates", help="comma list of shape ids to ray trace ('' for none)")
     g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")
@@ -53,7 +55,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
 
 
 def _properties(args) -> dict:
-    names = ("primary", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
+    names = ("primary", "raster", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
              "denoise_quality", "learn_ambient", "shadow_tier")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 

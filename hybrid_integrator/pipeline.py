@@ -50,7 +50,7 @@ from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.context import gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
-from .raster.visibility import Rasterizer, TriangleTables
+from .raster.visibility import RASTER_METHODS, Rasterizer, TriangleTables
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
@@ -70,6 +70,7 @@ class HybridSettings:
     rr_depth: int = 5
     hide_emitters: bool = False
     primary: str = "raster"
+    raster: str = "auto"
     effects: tuple[str, ...] = DEFAULT_EFFECTS
     candidates: object = None  # None: every object; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
@@ -98,6 +99,8 @@ class HybridSettings:
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
+        if self.raster not in RASTER_METHODS:
+            raise HybridError(f"raster='{self.raster}' is not one of {list(RASTER_METHODS)}")
         object.__setattr__(self, "effects", parse_effects(self.effects))
         if self.denoise_quality not in QUALITIES:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
@@ -641,7 +644,7 @@ class HybridRenderer:
                 self._gl_queries.append(self.raster.ctx.query(time=True))
             # the draw alone: the query's end waits for nothing of CUDA's
             with self._gl_queries[sample] if timed else contextlib.nullcontext():
-                fbo = self.raster.render(camera, offset)
+                fbo = self.raster.render(camera, offset, settings.raster)
             gl_flush()  # the draw and the query's end to the GPU now
             triangle_id = self.raster.device_ids(fbo)
         else:

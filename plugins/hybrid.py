@@ -4,6 +4,7 @@
 
     <integrator type="hybrid">
         <string name="primary" value="raster"/>        <!-- or "raytrace": the pure RT baseline -->
+        <string name="raster" value="auto"/>           <!-- or "draw", "compute" -->
         <string name="effects" value="shadow, reflection, refraction, indirect"/>
         <string name="candidates" value="mirror_sphere, glass_sphere"/>  <!-- default: all shapes -->
         <float name="blend" value="1"/>                <!-- composition weight of the RT layer -->
@@ -28,6 +29,12 @@ Properties
 ``primary``      where primary hits come from: ``raster`` (the moderngl visibility buffer) or
                  ``raytrace`` (Mitsuba's camera rays), the only difference between the hybrid and
                  the paper's "pure GPU ray tracer" baseline (§8).
+``raster``       how the raster pass rasterizes: ``draw`` (OpenGL's rasterizer, one draw call),
+                 ``compute`` (OpenGL compute shaders: small triangles one per invocation, large
+                 ones by screen tiles; ``hybrid_integrator/raster/compute.py``) or ``auto`` (the
+                 default: ``compute`` on a CUDA variant, where it is 1.5–9× faster than the draw on
+                 the H100, and ``draw`` on the CPU's llvmpipe). Both give the same visibility
+                 buffer up to ties on shared edges and coplanar faces.
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect`` (default:
                  all four, with which the traced pixels are Mitsuba's ``path`` estimator and
                  converge to it; the paper's effects are the first three).

@@ -35,13 +35,13 @@ def rasterizers(args: argparse.Namespace):
         yield name, scene, raster, RasterCamera.from_sensor(scene.sensors()[0]), raster.ctx.query(time=True)
 
 
-def timed_draw(raster, camera, query, repeats: int):
-    """The median GL time (ms) of ``Rasterizer.render``'s clear and draw over ``repeats`` draws
-    after two, and the last draw's target."""
+def timed_draw(raster, camera, query, repeats: int, method: str = "draw"):
+    """The median GL time (ms) of ``Rasterizer.render`` by ``method`` (the draw: its clear and
+    draw) over ``repeats`` passes after two, and the last pass's target."""
     times = []
     for r in range(repeats + 2):
         with query:
-            fbo = raster.render(camera)
+            fbo = raster.render(camera, method=method)
         raster.ctx.finish()
         if r >= 2:
             times.append(query.elapsed * 1e-6)

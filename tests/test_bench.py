@@ -54,6 +54,16 @@ def test_bench_report_has_every_field(tmp_path):
     assert (tmp_path / "default.png").stat().st_size > 0 and "Table 3 layout" in (tmp_path / "bench.md").read_text()
 
 
+def test_bench_without_accuracy_writes_times_and_no_chart(tmp_path):
+    """``--no-accuracy`` (the speed benchmarks of issue 10): times and tables, no errors, and no
+    time–FLIP chart to draw."""
+    done = bench(str(DEFAULT_SCENE), *TINY, "--no-accuracy", "-o", str(tmp_path))
+    assert done.returncode == 0, done.stderr[-2000:]
+    (report,) = json.loads((tmp_path / "bench.json").read_text())
+    assert report["dr_ms"] > 0 and report["hybrid_ms"] > 0 and all(math.isnan(m["flip"]) for m in report["methods"])
+    assert "Table 3 layout" in (tmp_path / "bench.md").read_text() and not (tmp_path / "default.png").exists()
+
+
 def test_bench_scaling_by_triangles(tmp_path):
     out = tmp_path / "triangles"
     done = bench("--scaling", "triangles", "--values", "2000", "8000", "-D", "resx=48", "-D", "resy=32",

@@ -175,6 +175,7 @@ def test_raster_layer_lights_a_diffuse_floor_like_mitsuba(light):
 
 def test_bad_properties_are_clear_errors():
     cases = [({"effects": "glow"}, "unknown effect"), ({"primary": "camera"}, "primary='camera' is not one of"),
+             ({"raster": "hardware"}, "raster='hardware' is not one of"),
              ({"blend": 1.5}, r"blend=1.5 must lie in \[0, 1\]"), ({"budget_ms": -1.0}, "budget_ms=-1.0 is impossible"),
              ({"budget_ms": float("nan")}, "budget_ms=nan is impossible"), ({"max_depth": -3}, "max_depth=-3"),
              ({"colour": 1}, "has no property 'colour'")]

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import importlib.resources
 import platform
 
 import moderngl
@@ -82,6 +83,11 @@ def gl_context() -> moderngl.Context:
             f"through EGL ({exc}). On Debian/Ubuntu install the system packages: apt-get install "
             f"{SYSTEM_PACKAGES}") from exc
     return ctx
+
+
+def shader_source(name: str) -> str:
+    """The GLSL source of ``raster/shaders/NAME``."""
+    return importlib.resources.files(__package__).joinpath("shaders", name).read_text()
 
 
 def renderer_name() -> str:

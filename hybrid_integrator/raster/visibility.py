@@ -16,7 +16,6 @@ reversed-Z float depth buffer (``context.DepthPrecision``).
 """
 from __future__ import annotations
 
-import importlib.resources
 from dataclasses import dataclass
 
 import mitsuba as mi
@@ -25,9 +24,17 @@ import numpy as np
 
 from ..objects import object_of_triangles, scene_objects
 from .camera import RasterCamera
-from .context import depth_precision, gl_context
+from .compute import ComputeVisibility
+from .context import depth_precision, gl_context, shader_source
 from .geometry import SceneGeometry, scene_geometry
 from .interop import Readback
+
+
+#: how the visibility pass rasterizes (:meth:`Rasterizer.render`): ``draw`` (OpenGL's rasterizer),
+#: ``compute`` (compute shaders, :mod:`.compute`), or ``auto``: ``compute`` on a CUDA variant (the
+#: H100's and H200's fixed-function rasterizer is slow, and their compute units are not) and
+#: ``draw`` otherwise (Mesa's llvmpipe draws faster than it runs the compute shaders)
+RASTER_METHODS = ("auto", "draw", "compute")
 
 
 @dataclass(frozen=True)
@@ -69,10 +76,6 @@ class TriangleTables:
                    proxy=mi.Bool(geometry.proxy) if len(geometry.proxy) else mi.Bool(False))
 
 
-def _shader(name: str) -> str:
-    return importlib.resources.files(__package__).joinpath("shaders", name).read_text()
-
-
 class Rasterizer:
     """Draws one Mitsuba scene's visibility buffer with OpenGL.
 
@@ -83,14 +86,17 @@ class Rasterizer:
         self.ctx = gl_context()
         self.geometry = scene_geometry(scene).renumbered()  # vertices in the order the draw fetches them
         self.tables = TriangleTables.of(scene, self.geometry)
-        self.program = self.ctx.program(vertex_shader=_shader("visibility.vert"),
-                                        fragment_shader=_shader("visibility.frag"))
+        self.program = self.ctx.program(vertex_shader=shader_source("visibility.vert"),
+                                        fragment_shader=shader_source("visibility.frag"))
+        #: the scene's vertices (3 float32 each) and triangles (3 uint32 each), uploaded once; the
+        #: compute pass (``compute.py``) reads them as storage buffers
+        self.vertices = self.ctx.buffer(np.ascontiguousarray(self.geometry.positions, dtype="f4").tobytes() or bytes(12))
+        self.faces = self.ctx.buffer(np.ascontiguousarray(self.geometry.faces, dtype="u4").tobytes() or bytes(12))
         self._vao = None
         if len(self.geometry.faces):
-            vbo = self.ctx.buffer(np.ascontiguousarray(self.geometry.positions, dtype="f4").tobytes())
-            ibo = self.ctx.buffer(np.ascontiguousarray(self.geometry.faces, dtype="u4").tobytes())
-            self._vao = self.ctx.vertex_array(self.program, [(vbo, "3f", "in_position")], index_buffer=ibo,
-                                              index_element_size=4)
+            self._vao = self.ctx.vertex_array(self.program, [(self.vertices, "3f", "in_position")],
+                                              index_buffer=self.faces, index_element_size=4)
+        self._compute: ComputeVisibility | None = None
         self._depth = depth_precision()
         self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
         self._readback: Readback | None = None
@@ -98,7 +104,8 @@ class Rasterizer:
         #: moderngl's "front" / "back" (``scripts/raster_cull_probe.py`` measures what that saves)
         self.cull: str | None = None
 
-    def _framebuffer(self, width: int, height: int) -> moderngl.Framebuffer:
+    def target(self, width: int, height: int) -> moderngl.Framebuffer:
+        """The target of one film size: the triangle numbers (R32UI) on a 32-bit float depth buffer."""
         key = (width, height)
         if key not in self._targets:
             fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture(key, 1, dtype="u4")],
@@ -107,11 +114,19 @@ class Rasterizer:
             self._targets[key] = fbo
         return self._targets[key]
 
-    def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5)) -> moderngl.Framebuffer:
-        """The raster pass alone: draw the scene into the camera's target (left on the GPU)."""
-        w, h = camera.width, camera.height
+    def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5),
+               method: str = "auto") -> moderngl.Framebuffer:
+        """The raster pass alone: the scene's visibility buffer in the camera's target (left on the
+        GPU), by ``method`` (:data:`RASTER_METHODS`)."""
         self._release()
-        fbo = self._framebuffer(w, h)
+        if method not in RASTER_METHODS:
+            raise ValueError(f"raster method {method!r} is not one of {list(RASTER_METHODS)}")
+        if method == "compute" or (method == "auto" and mi.variant().startswith("cuda")):
+            if self._compute is None:
+                self._compute = ComputeVisibility(self.ctx, self.vertices, self.faces, len(self.geometry.faces))
+            return self._compute.render(camera, offset, self.target(camera.width, camera.height))
+        w, h = camera.width, camera.height
+        fbo = self.target(w, h)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         # 0 is the background in the integer target; depth 0 is infinitely far (reversed Z)
@@ -131,6 +146,11 @@ class Rasterizer:
             self._vao.render(moderngl.TRIANGLES)
             self._depth.zero_to_one(False)
         return fbo
+
+    def compute_tiers(self) -> tuple[int, int]:
+        """How many triangles the last compute pass rasterized by tiles (large, or crossing the
+        eye's plane) and by work groups (medium); the rest were small (read from the GPU)."""
+        return self._compute.tiers() if self._compute is not None else (0, 0)
 
     def read_ids(self, fbo: moderngl.Framebuffer) -> np.ndarray:
         """The target of :meth:`render` on the host: per pixel (row-major, row 0 at the top) the

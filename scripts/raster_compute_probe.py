@@ -1,0 +1,63 @@
+"""Probe: the visibility pass in compute shaders against OpenGL's draw (``Rasterizer.render``,
+``method="compute"`` / ``"draw"``): the GL time of each (a timer query around the pass, median of
+``--repeats``), the compute pass's stages, how many triangles each tier takes, and how many pixels
+keep the draw's triangle, per scene.
+
+    python3 scripts/raster_compute_probe.py --variant cuda_ad_rgb SCENE... -D resx=1280 -D resy=720
+"""
+from __future__ import annotations
+
+import statistics
+
+from raster_cull_probe import arguments, rasterizers, timed_draw  # scripts/ is on sys.path when a script runs
+
+
+def stage_times(raster, camera, repeats: int) -> dict[int, float]:
+    """Median GL time (ms) of each stage of the compute pass (a timer query per dispatch)."""
+    from hybrid_integrator.raster import compute
+
+    queries, times = {}, {}
+    run = compute.ComputeVisibility._run
+
+    def timed_run(self, stage, grid):
+        with queries.setdefault(stage, raster.ctx.query(time=True)):
+            run(self, stage, grid)
+
+    compute.ComputeVisibility._run = timed_run
+    try:
+        for r in range(repeats + 2):
+            raster.render(camera, method="compute")
+            raster.ctx.finish()
+            for stage, query in queries.items():
+                if r >= 2:
+                    times.setdefault(stage, []).append(query.elapsed * 1e-6)
+    finally:
+        compute.ComputeVisibility._run = run
+    return {stage: statistics.median(t) for stage, t in times.items()}
+
+
+def main() -> None:
+    import numpy as np
+
+    from hybrid_integrator.raster import compute
+
+    args = arguments(__doc__)
+    names = {getattr(compute, n): n.lower() for n in ("CLEAR", "SMALL_DEPTH", "MEDIUM_GROUPS", "MEDIUM_DEPTH",
+                                                       "SMALL_NUMBERS", "MEDIUM_NUMBERS", "TILES")}
+    for name, _, raster, camera, query in rasterizers(args):
+        tris = len(raster.geometry.faces)
+        for offset in ((0.5, 0.5), (0.13, 0.77)):
+            drawn = raster.read_ids(raster.render(camera, offset, "draw")).copy()
+            computed = raster.read_ids(raster.render(camera, offset, "compute"))
+            print(f"{name}: {tris:,} triangles, offset {offset}: same triangle on {100 * np.mean(drawn == computed):.3f} % "
+                  f"of pixels, hit/miss differs on {int(np.sum((drawn == 0) != (computed == 0)))}", flush=True)
+        draw_ms, _ = timed_draw(raster, camera, query, args.repeats, "draw")
+        compute_ms, _ = timed_draw(raster, camera, query, args.repeats, "compute")
+        large, medium = raster.compute_tiers()
+        stages = {names[k]: round(v, 4) for k, v in stage_times(raster, camera, args.repeats).items()}
+        print(f"{name}: GL draw {draw_ms:.3f} ms, compute {compute_ms:.3f} ms ({draw_ms / compute_ms:.2f}x); "
+              f"large {large:,}, medium {medium:,} triangles; stages (ms) {stages}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
