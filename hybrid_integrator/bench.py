@@ -54,6 +54,7 @@ from .errors import HybridError
 from .metrics import errors_in_parallel
 from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
+from .raster.visibility import resolve_method
 from .scene import load_scene
 
 #: frames whose errors are averaged for a raw frame of few samples (module docstring)
@@ -85,7 +86,7 @@ PAPER = {
     "dining_room": {"scene": "Dining Room", "vertices": 386541, "triangles": 224954, "Brigade": 76.92,
                     "Hybrid": 28.283},
 }
-FIELDS = ("scene", "name", "variant", "device", "width", "height", "spp", "frames", "vertices", "triangles", "shapes",
+FIELDS = ("scene", "name", "variant", "device", "raster", "width", "height", "spp", "frames", "vertices", "triangles", "shapes",
           "ground_truth", "dr_ms", "gl_ms", "rt_ms", "path_1spp_ms", "hybrid_ms", "gain", "all_candidates_trace_ms", "equal_time",
           "methods", "command")
 
@@ -225,7 +226,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     film = sensor.film().size()
     meshes = [sh for sh in scene.shapes() if isinstance(sh, mi.Mesh)]
     return {
-        "scene": spec, "name": name, "variant": mi.variant(), "device": _device(), "width": int(film[0]),
+        "scene": spec, "name": name, "variant": mi.variant(), "device": _device(),
+        "raster": resolve_method(properties.get("raster", "auto")), "width": int(film[0]),
         "height": int(film[1]), "spp": spp, "frames": frames,
         "vertices": sum(int(m.vertex_count()) for m in meshes), "triangles": scene_triangles(scene),
         "shapes": len(scene.shapes()),
@@ -318,6 +320,7 @@ def tables(reports: list[dict], commands: list[str]) -> str:
     first = reports[0]
     lines = [f"# Benchmarks: {first['variant']}, {first['width']}×{first['height']}, {first['spp']} spp per frame",
              "", *(f"Command: `{c}`  " for c in commands), f"Machine: {first['device']}  ",
+             f"Raster pass: {first.get('raster', 'draw')} (`raster/visibility.py`)  ",
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",

@@ -50,7 +50,7 @@ from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.context import gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
-from .raster.visibility import RASTER_METHODS, Rasterizer, TriangleTables
+from .raster.visibility import RASTER_METHODS, Rasterizer, TriangleTables, resolve_method
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
@@ -141,6 +141,7 @@ class FrameStats:
     edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
+    raster_method: str = ""  # the raster pass that made it: draw or compute (raster/visibility.py)
     fallback: str = ""  # what the frame did instead of the hybrid pipeline, and why ("": nothing)
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
@@ -691,6 +692,7 @@ class HybridRenderer:
             stats.times_ms["gl"] = sum(q.elapsed for q in self._gl_queries[:len(passes)]) * 1e-6
             stats.times_ms["raster"] += stats.times_ms["gl"]
             stats.readback = self.raster.readback
+            stats.raster_method = resolve_method(settings.raster)
         else:
             stats.rays["camera"] = len(passes) * frame.camera.width * frame.camera.height
         per_object = sum(p.rays for p in passes)  # objects × kinds

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The GPU measurements of the compute-shader visibility pass (raster/compute.py; docs/results/README.md,
 # stop 23): the probe (draw against compute, per stage), the bench without accuracy with each
-# method (--raster draw / the default, compute on CUDA), then the triangle scaling, the trace
+# method (--raster draw, --raster compute: the default on CUDA), then the triangle scaling, the trace
 # overhead and the budgets with the default. On the device machine, from the repository root, with
 # the bundle (../shared/tools/device-bundle.sh), the shared scenes as .device/scenes.tar.xz and
 # pyoidn in /tmp/oidn_site (as for gpu_issue11.sh):

@@ -86,8 +86,9 @@ def test_compute_pass_is_the_draw_but_for_ties():
     assert large > 0 and medium > 0 and (computed > 0).mean() > 0.99
     assert np.mean(drawn == computed) >= 0.995
     assert np.array_equal(drawn == 0, computed == 0)
-    frames = {m: hi.render(scene, spp=1, seed=4, raster=m, denoise=False).image for m in ("draw", "compute")}
-    assert np.abs(frames["draw"] - frames["compute"]).max(axis=-1).mean() < 1e-3
+    results = {m: hi.render(scene, spp=1, seed=4, raster=m, denoise=False) for m in ("draw", "compute")}
+    assert [results[m].stats.raster_method for m in ("draw", "compute")] == ["draw", "compute"]
+    assert np.abs(results["draw"].image - results["compute"].image).max(axis=-1).mean() < 1e-3
 
 
 @pytest.mark.parametrize("fov_axis", ["smaller", "larger", "diagonal"])

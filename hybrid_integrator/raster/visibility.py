@@ -37,6 +37,15 @@ from .interop import Readback
 RASTER_METHODS = ("auto", "draw", "compute")
 
 
+def resolve_method(method: str) -> str:
+    """``method`` (:data:`RASTER_METHODS`) with ``auto`` resolved for the current variant."""
+    if method not in RASTER_METHODS:
+        raise ValueError(f"raster method {method!r} is not one of {list(RASTER_METHODS)}")
+    if method == "auto":
+        return "compute" if mi.variant().startswith("cuda") else "draw"
+    return method
+
+
 @dataclass(frozen=True)
 class VisibilityBuffer:
     """Primary hits of one raster pass; arrays are indexed ``[row, column]``, row 0 at the top."""
@@ -119,9 +128,7 @@ class Rasterizer:
         """The raster pass alone: the scene's visibility buffer in the camera's target (left on the
         GPU), by ``method`` (:data:`RASTER_METHODS`)."""
         self._release()
-        if method not in RASTER_METHODS:
-            raise ValueError(f"raster method {method!r} is not one of {list(RASTER_METHODS)}")
-        if method == "compute" or (method == "auto" and mi.variant().startswith("cuda")):
+        if resolve_method(method) == "compute":
             if self._compute is None:
                 self._compute = ComputeVisibility(self.ctx, self.vertices, self.faces, len(self.geometry.faces))
             return self._compute.render(camera, offset, self.target(camera.width, camera.height))
