@@ -109,8 +109,9 @@ class Rasterizer:
         self._depth = depth_precision()
         self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
         self._readback: Readback | None = None
-        #: faces left out of the draw: None (every face, the default: meshes may be open), or
-        #: moderngl's "front" / "back" (``scripts/raster_cull_probe.py`` measures what that saves)
+        #: faces left out of the draw (``method="draw"`` only): None (every face, the default:
+        #: meshes may be open), or moderngl's "front" / "back" (``scripts/raster_cull_probe.py``
+        #: measures what that saves)
         self.cull: str | None = None
 
     def target(self, width: int, height: int) -> moderngl.Framebuffer:
