@@ -12,7 +12,9 @@ albedo, specular and optical targets then come from Mitsuba's own surface intera
 The :class:`Rasterizer` uploads a scene's triangles to the GPU once, in one vertex and one index
 buffer, and draws every frame with a single draw call at any sub-pixel offset: the fragment shader
 only writes ``gl_PrimitiveID``, there is no geometry shader, and the depth test runs early on a
-reversed-Z float depth buffer (``context.DepthPrecision``).
+reversed-Z float depth buffer (``context.DepthPrecision``). Or it computes the same buffer with
+compute shaders from the same two buffers (:mod:`.compute`): the default on a CUDA variant, where
+the GPU's fixed-function rasterizer is the slow part (``RASTER_METHODS``).
 """
 from __future__ import annotations
 
