@@ -12,7 +12,7 @@ from .pipeline import HybridSettings
 from .primary import camera_rays, primary_hits, visibility_buffer
 from .raster.camera import RasterCamera, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
-from .raster.visibility import RASTER_METHODS, Rasterizer
+from .raster.visibility import Rasterizer
 
 def rasterizer(scene: mi.Scene) -> Rasterizer:
     """The :class:`Rasterizer` of ``scene``, made (and its geometry uploaded) on first use.
@@ -36,7 +36,8 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     ``offset`` is the sub-pixel sample position in [0,1)² (the pixel centre by default); ``aovs``
     names any of the G-buffer targets (``position``, ``normal``, ``albedo``, ``specular``,
     ``optical``, ``emission``, or ``"all"``) to derive from Mitsuba's BSDFs and emitters;
-    ``method`` how to rasterize (``raster.visibility.RASTER_METHODS``, as the integrator's ``raster``). Arrays
+    ``method`` how to rasterize (``raster.visibility.RASTER_METHODS``, as the integrator's ``raster``;
+    another value is a :class:`HybridError`). Arrays
     are numpy, indexed ``[row, column]`` with row 0 at the top of the image; ``shape_index``
     indexes the scene's objects (``shape_ids``: its ``<shape>`` ids, ``objects.py``)."""
     require_jit_rgb_variant()
@@ -46,8 +47,6 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     sensor = resolve_sensor(scene, sensor)
     camera = RasterCamera.from_sensor(sensor)
     raster = rasterizer(scene)
-    if method not in RASTER_METHODS:
-        raise HybridError(f"method='{method}' is not one of {list(RASTER_METHODS)}")
     ids = mi.UInt32(raster.read_ids(raster.render(camera, offset, method)))
     ray = camera_rays(sensor, camera.width, camera.height, offset)
     vis = visibility_buffer(ray, ids, raster.tables, camera.eye, (camera.width, camera.height), offset)

@@ -50,7 +50,7 @@ from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.context import gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
-from .raster.visibility import RASTER_METHODS, Rasterizer, TriangleTables, resolve_method
+from .raster.visibility import Rasterizer, TriangleTables, resolve_method
 from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
@@ -99,8 +99,7 @@ class HybridSettings:
     def __post_init__(self):
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
-        if self.raster not in RASTER_METHODS:
-            raise HybridError(f"raster='{self.raster}' is not one of {list(RASTER_METHODS)}")
+        resolve_method(self.raster)  # a clear error for an unknown method
         object.__setattr__(self, "effects", parse_effects(self.effects))
         if self.denoise_quality not in QUALITIES:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")

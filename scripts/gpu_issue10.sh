@@ -4,9 +4,8 @@
 # device-bundle.sh), the shared scenes as .device/scenes.tar.xz and the code of commit 8782a67 in
 # .device/old (git archive 8782a67 hybrid_integrator plugins scenes):
 #   source .device/prelude.sh; ln -sfn ../plugins hybrid_integrator/plugins; bash scripts/gpu_issue10.sh
-S=/tmp/scn; R=$OUT/r; mkdir -p $R/before $R/after
-mkdir -p $S && tar -xJf .device/scenes.tar.xz -C $S
-D="-D resx=1280 -D resy=720 -D models_dir=$S/models -D sponza_dir=$S/sponza-dabrovic -D showcase_dir=$S/cbox -D dining_dir=$S/dining-room"
+R=$OUT/r; mkdir -p $R/before $R/after
+source scripts/gpu_scenes.sh  # $S, $D
 SCENES="armadillo_glass sponza_mirror showcase dining_room many_objects"
 # before: the code at 8782a67, the same scenes, DR / RT / hybrid only (its scaling-point mode), 20 frames
 (cd .device/old && ln -sfn ../plugins hybrid_integrator/plugins && for s in $SCENES; do

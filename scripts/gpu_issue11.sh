@@ -5,10 +5,8 @@
 # the shared scenes as .device/scenes.tar.xz, and pyoidn (trimmed to its CPU and CUDA devices)
 # unpacked in /tmp/oidn_site:
 #   source .device/prelude.sh; ln -sfn ../plugins hybrid_integrator/plugins; bash scripts/gpu_issue11.sh SCENE...
-S=/tmp/scn; R=$OUT/r; mkdir -p $R
-mkdir -p $S && tar -xJf .device/scenes.tar.xz -C $S
-export PYTHONPATH=/tmp/oidn_site:$PYTHONPATH
-D="-D resx=1280 -D resy=720 -D models_dir=$S/models -D sponza_dir=$S/sponza-dabrovic -D showcase_dir=$S/cbox -D dining_dir=$S/dining-room"
+R=$OUT/r; mkdir -p $R
+source scripts/gpu_scenes.sh  # $S, $D, pyoidn
 # one bench per scene, each packed as it ends: a scene takes 100-300 s on an H100, and a device
 # command ends at 600 s, so a killed run still returns the scenes it finished
 for s in "$@"; do

@@ -7,10 +7,9 @@
 # WHAT: throughput (a 60-frame Sponza camera path on 1 GPU in one process, then on 2 Ray workers,
 # one GPU each), soak (10 000 frames in one process, and one 8192×8192 frame) or bench (the issue-11
 # bench of the four scenes, two on each GPU at once).
-S=/tmp/scn; R=$OUT/r; mkdir -p $R
-[ -d $S/models ] || { mkdir -p $S && tar -xJf .device/scenes.tar.xz -C $S; }
-export PYTHONPATH=/tmp/oidn_site:/tmp/ray_site:$PYTHONPATH RAY_AUTH_MODE=disabled
-D="-D resx=1280 -D resy=720 -D models_dir=$S/models -D sponza_dir=$S/sponza-dabrovic -D showcase_dir=$S/cbox -D dining_dir=$S/dining-room"
+R=$OUT/r; mkdir -p $R
+source scripts/gpu_scenes.sh  # $S, $D, pyoidn
+export PYTHONPATH=/tmp/ray_site:$PYTHONPATH RAY_AUTH_MODE=disabled
 case "$1" in
 throughput)
   python3 scripts/sequence_throughput.py scenes/sponza_mirror.xml --variant cuda_ad_rgb --gpus-per-worker 1 \

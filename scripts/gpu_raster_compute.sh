@@ -8,10 +8,8 @@
 #   source .device/prelude.sh; ln -sfn ../plugins hybrid_integrator/plugins; bash scripts/gpu_raster_compute.sh PART
 # PART: "bench" (the probe and both benches) or "scripts" (scaling, trace overhead, budgets); a
 # device command ends at 600 s, so each part is one command, packed into $OUT/results.tgz as it goes.
-S=/tmp/scn; R=$OUT/r; mkdir -p $R
-export PYTHONPATH=/tmp/oidn_site:$PYTHONPATH  # pyoidn, trimmed to its CPU and CUDA devices, unpacked there
-[ -d $S/cbox ] || { mkdir -p $S && tar -xJf .device/scenes.tar.xz -C $S; }
-D="-D resx=1280 -D resy=720 -D models_dir=$S/models -D sponza_dir=$S/sponza-dabrovic -D showcase_dir=$S/cbox -D dining_dir=$S/dining-room"
+R=$OUT/r; mkdir -p $R
+source scripts/gpu_scenes.sh  # $S, $D, pyoidn
 SCENES="armadillo_glass showcase sponza_mirror dining_room many_objects"
 B="python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1"
 pack() { echo "$1 rc=$2"; tar -czf $OUT/results.tgz -C $OUT r; }

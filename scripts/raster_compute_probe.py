@@ -1,7 +1,8 @@
 """Probe: the visibility pass in compute shaders against OpenGL's draw (``Rasterizer.render``,
 ``method="compute"`` / ``"draw"``): the GL time of each (a timer query around the pass, median of
-``--repeats``), the compute pass's stages, how many triangles each tier takes, and how many pixels
-keep the draw's triangle, per scene.
+``--repeats``), the compute pass's stages, how many triangles each tier takes, how many pixels
+keep the draw's triangle, and how many agree with Mitsuba's camera rays (``raster/agreement.py``),
+per scene.
 
     python3 scripts/raster_compute_probe.py --variant cuda_ad_rgb SCENE... -D resx=1280 -D resy=720
 """
@@ -39,18 +40,24 @@ def stage_times(raster, camera, repeats: int) -> dict[int, float]:
 def main() -> None:
     import numpy as np
 
+    import hybrid_integrator as hi
     from hybrid_integrator.raster import compute
+    from hybrid_integrator.raster.agreement import visibility_agreement
 
     args = arguments(__doc__)
     names = {getattr(compute, n): n.lower() for n in ("CLEAR", "SMALL_DEPTH", "MEDIUM_GROUPS", "MEDIUM_DEPTH",
                                                        "SMALL_NUMBERS", "MEDIUM_NUMBERS", "TILES")}
-    for name, _, raster, camera, query in rasterizers(args):
+    for name, scene, raster, camera, query in rasterizers(args):
         tris = len(raster.geometry.faces)
         for offset in ((0.5, 0.5), (0.13, 0.77)):
             drawn = raster.read_ids(raster.render(camera, offset, "draw")).copy()
             computed = raster.read_ids(raster.render(camera, offset, "compute"))
+            rays = {m: visibility_agreement(scene, scene.sensors()[0], hi.rasterize(scene, offset=offset, method=m))
+                    for m in ("draw", "compute")}
             print(f"{name}: {tris:,} triangles, offset {offset}: same triangle on {100 * np.mean(drawn == computed):.3f} % "
-                  f"of pixels, hit/miss differs on {int(np.sum((drawn == 0) != (computed == 0)))}", flush=True)
+                  f"of pixels, hit/miss differs on {int(np.sum((drawn == 0) != (computed == 0)))}; the camera rays' "
+                  f"triangle: draw {100 * rays['draw'].shape_and_triangle:.3f} %, "
+                  f"compute {100 * rays['compute'].shape_and_triangle:.3f} %", flush=True)
         draw_ms, _ = timed_draw(raster, camera, query, args.repeats, "draw")
         compute_ms, _ = timed_draw(raster, camera, query, args.repeats, "compute")
         large, medium = raster.compute_tiers()

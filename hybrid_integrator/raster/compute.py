@@ -3,9 +3,8 @@
 The paper's G-buffer pass is the GPU's fixed-function rasterizer, and so is ``Rasterizer``'s draw.
 On the H100 and H200, whose graphics units are few, that path is slow where a game GPU is fast:
 the draw is bound by geometry (0.9 ms for the Armadillo's 400k triangles at 1280×720, 8.4 ms for
-5M; face culling saves nothing, ``scripts/raster_cull_probe.py``), and even clearing a
-1280×720 target with its depth takes 0.2 ms (a GL timer query, stop 23), while the same GPU
-casts a camera ray per pixel in 0.3–0.8 ms. Real-time renderers that meet geometry-bound rasterization (Nanite's visibility
+5M; face culling saves nothing, ``scripts/raster_cull_probe.py``), while the same GPU casts a
+camera ray per pixel in 0.3–0.8 ms. Real-time renderers that meet geometry-bound rasterization (Nanite's visibility
 buffer; Kenzel et al. 2018) rasterize small triangles in compute shaders, one invocation per
 triangle, resolving visibility with atomics. This module does all of it in moderngl compute
 shaders (``shaders/visibility.comp`` explains the method: small triangles one per invocation,

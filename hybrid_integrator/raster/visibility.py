@@ -24,6 +24,7 @@ import mitsuba as mi
 import moderngl
 import numpy as np
 
+from ..errors import HybridError
 from ..objects import object_of_triangles, scene_objects
 from .camera import RasterCamera
 from .compute import ComputeVisibility
@@ -40,11 +41,12 @@ RASTER_METHODS = ("auto", "draw", "compute")
 
 
 def resolve_method(method: str) -> str:
-    """``method`` (:data:`RASTER_METHODS`) with ``auto`` resolved for the current variant."""
+    """``method`` (:data:`RASTER_METHODS`) with ``auto`` resolved for the current variant; any
+    other value is a :class:`HybridError` naming it (as the integrator's ``raster`` property)."""
     if method not in RASTER_METHODS:
-        raise ValueError(f"raster method {method!r} is not one of {list(RASTER_METHODS)}")
+        raise HybridError(f"raster='{method}' is not one of {list(RASTER_METHODS)}")
     if method == "auto":
-        return "compute" if mi.variant().startswith("cuda") else "draw"
+        return "compute" if (mi.variant() or "").startswith("cuda") else "draw"
     return method
 
 

@@ -85,14 +85,20 @@ float edge(vec3 r, float px, float py) {
 float pixel_x(int i) { return (2.0 * float(i) + 1.0) / float(size.x) - 1.0; }
 float pixel_y(int j) { return (2.0 * float(j) + 1.0) / float(size.y) - 1.0; }
 
+// the edge functions of a triangle at pixel centre (px, py); covered: none has det's opposite sign
+bool covers(vec4 a, vec4 b, vec4 c, float det, float px, float py, out vec3 e) {
+    e = vec3(edge(a.xyz, px, py), edge(b.xyz, px, py), edge(c.xyz, px, py));
+    float s = sign(det);
+    return e.x * s >= 0.0 && e.y * s >= 0.0 && e.z * s >= 0.0;
+}
+
 // the depth of a listed triangle at pixel centre (px, py) where it covers it between the clip
 // planes, else -1 (large, or crossing the eye's plane: the edge functions' depth, whose
 // cancellation is small on a large triangle)
 float depth_at(vec4 a, vec4 b, vec4 c, float det, float px, float py) {
-    float e0 = edge(a.xyz, px, py), e1 = edge(b.xyz, px, py), e2 = edge(c.xyz, px, py);
-    float s = sign(det);
-    if (e0 * s < 0.0 || e1 * s < 0.0 || e2 * s < 0.0) return -1.0;
-    precise float d = (e0 * a.w + e1 * b.w + e2 * c.w) / det;
+    vec3 e;
+    if (!covers(a, b, c, det, px, py, e)) return -1.0;
+    precise float d = (e.x * a.w + e.y * b.w + e.z * c.w) / det;
     return (d >= 0.0 && d <= 1.0) ? d : -1.0;
 }
 
@@ -153,8 +159,8 @@ int pixels_of(Setup q) {
 // number where its depth won
 void write_pixel(Setup q, uint t, int i, int j, bool numbers) {
     float px = pixel_x(i), py = pixel_y(j);
-    float e0 = edge(q.a.xyz, px, py), e1 = edge(q.b.xyz, px, py), e2 = edge(q.c.xyz, px, py), s = sign(q.det);
-    if (e0 * s < 0.0 || e1 * s < 0.0 || e2 * s < 0.0) return;
+    vec3 e;
+    if (!covers(q.a, q.b, q.c, q.det, px, py, e)) return;
     float d = q.plane.x + q.plane.y * (px - q.origin.x) + q.plane.z * (py - q.origin.y);
     if (d < 0.0 || d > 1.0) return;
     uint key = floatBitsToUint(d), pixel = uint(j * size.x + i);
