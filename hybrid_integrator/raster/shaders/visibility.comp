@@ -89,7 +89,7 @@ float pixel_y(int j) { return (2.0 * float(j) + 1.0) / float(size.y) - 1.0; }
 bool covers(vec4 a, vec4 b, vec4 c, float det, float px, float py, out vec3 e) {
     e = vec3(edge(a.xyz, px, py), edge(b.xyz, px, py), edge(c.xyz, px, py));
     float s = sign(det);
-    return e.x * s >= 0.0 && e.y * s >= 0.0 && e.z * s >= 0.0;
+    return !(e.x * s < 0.0 || e.y * s < 0.0 || e.z * s < 0.0);
 }
 
 // the depth of a listed triangle at pixel centre (px, py) where it covers it between the clip
