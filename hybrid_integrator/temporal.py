@@ -40,6 +40,8 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
+from .raster.interop import device_array
+
 #: frames a pixel's history holds while the camera moves (exponential average beyond)
 MOTION_FRAMES = 16
 #: frames it holds with a still camera (a plain mean of every frame)
@@ -193,11 +195,12 @@ class Accumulator:
             means = [mi.Float(flat), flat * flat] + ([] if film is None else [mi.Float(film)])
         else:
             still = np.array_equal(history.world_to_clip, camera.world_to_clip)
-            data = mi.Float(np.r_[history.world_to_clip.ravel(), STILL_FRAMES if still else MOTION_FRAMES,
-                                  1.0 if still else 0.0].astype(np.float32))
+            data = device_array(mi.Float, np.r_[history.world_to_clip.ravel(), STILL_FRAMES if still else MOTION_FRAMES,
+                                                1.0 if still else 0.0].astype(np.float32))
             kept = [history.color, history.square] + ([] if film is None else [history.film])
-            means, count = self._update(flat, film, surface, mi.Float(np.asarray(camera.eye, np.float32)), kept,
-                                        history.count, history.surface, data, width, height)
+            eye = device_array(mi.Float, np.asarray(camera.eye, np.float32))
+            means, count = self._update(flat, film, surface, eye, kept, history.count, history.surface, data, width,
+                                        height)
         new = History(color=means[0], square=means[1], film=means[2] if len(means) > 2 else None, count=count,
                       surface=surface, world_to_clip=camera.world_to_clip.copy(), eye=np.asarray(camera.eye).copy(),
                       width=width, height=height)

@@ -70,6 +70,27 @@ def drjit_stream() -> ctypes.c_void_p:
     return ctypes.c_void_p(stream())
 
 
+#: the alignment (bytes) the LLVM backend's vectors want of memory it maps (AVX-512: 16 floats)
+_ALIGNMENT = 64
+
+
+def device_array(dtype, values: np.ndarray):
+    """A host array as a Dr.Jit array of ``dtype``, made the same way every frame. The LLVM backend
+    maps a NumPy array's memory instead of copying it, and a frozen function records itself again
+    whenever the alignment of such an input changes (``dr.freeze``'s documentation): NumPy's small
+    arrays (a frame's camera, seeds, tables; a small visibility buffer) are aligned or not at
+    random, so each is first copied into 64-byte-aligned memory, which Dr.Jit then maps. (On CUDA
+    the array is copied to the device in any case.)"""
+    values = np.ascontiguousarray(values)
+    if dr.backend_v(dtype) == dr.JitBackend.LLVM:
+        buffer = np.empty(values.nbytes + _ALIGNMENT, dtype=np.uint8)
+        start = -buffer.ctypes.data % _ALIGNMENT
+        aligned = buffer[start:start + values.nbytes].view(values.dtype)
+        aligned[...] = values.ravel()
+        values = aligned
+    return dtype(values)
+
+
 class _Driver:
     """The few CUDA driver calls interop needs, in the primary context of device 0 (Dr.Jit's)."""
 
@@ -195,7 +216,7 @@ class Readback:
                 return shared
             except Exception as exc:  # noqa: BLE001 - any failure of interop falls back, and says why
                 self._driver, self.mode = None, f"host (interop failed: {type(exc).__name__}: {exc})"
-        return mi.UInt32(host_read(fbo))
+        return device_array(mi.UInt32, host_read(fbo))
 
     def release(self) -> None:
         """Hand every texture copied from back to OpenGL: call before OpenGL draws into or reads
@@ -208,6 +229,46 @@ class Readback:
         if texture.glo not in self._images:
             self._images[texture.glo] = _SharedImage(texture, self._driver)
         return self._images[texture.glo].copy(mi.UInt32)
+
+
+class HostCopy:
+    """32-bit words of evaluated Dr.Jit CUDA arrays copied to the host on Dr.Jit's stream, behind
+    the kernels issued before them and ahead of those issued after (``cuMemcpyDtoHAsync`` into
+    page-locked memory, then an event), so that the host can wait for them alone while the GPU
+    goes on with later work. (Reading an array with ``np.array`` waits for everything issued.)
+    The pipeline reads a frame's counts this way and learns from them while the GPU develops and
+    denoises the frame (``pipeline.HybridRenderer.render``)."""
+
+    def __init__(self):
+        self.driver = _Driver()
+        self.event = ctypes.c_void_p()
+        self.driver.call("cuEventCreate", ctypes.byref(self.event), ctypes.c_uint(2))  # CU_EVENT_DISABLE_TIMING
+        self._host, self._capacity, self._sizes = ctypes.c_void_p(), 0, []
+
+    def start(self, arrays: list) -> None:
+        """Issue the copies of ``arrays`` (UInt32, evaluated) and the event after them."""
+        self._sizes = [dr.width(a) for a in arrays]
+        nbytes = 4 * sum(self._sizes)
+        with self.driver.current():
+            if nbytes > self._capacity:
+                if self._host:
+                    self.driver.call_current("cuMemFreeHost", self._host)
+                self.driver.call_current("cuMemAllocHost_v2", ctypes.byref(self._host), ctypes.c_size_t(nbytes))
+                self._capacity = nbytes
+            offset = 0
+            for array, size in zip(arrays, self._sizes):
+                self.driver.call_current("cuMemcpyDtoHAsync_v2", ctypes.c_void_p(self._host.value + offset),
+                                         ctypes.c_uint64(device_pointer(array)), ctypes.c_size_t(4 * size),
+                                         self.driver.stream)
+                offset += 4 * size
+            self.driver.call_current("cuEventRecord", self.event, self.driver.stream)
+
+    def wait(self) -> list[np.ndarray]:
+        """Wait for the copies issued by :meth:`start` (not for the work issued after them) and
+        return each array's words (copies: the buffer is reused)."""
+        self.driver.call("cuEventSynchronize", self.event)
+        words = np.ctypeslib.as_array((ctypes.c_uint32 * sum(self._sizes)).from_address(self._host.value)).copy()
+        return np.split(words, np.cumsum(self._sizes)[:-1])
 
 
 class StreamTimer:
