@@ -631,8 +631,11 @@ class HybridRenderer:
     def _select(self, settings: HybridSettings, frame: _Frame, state: FrameState, seed: int) -> tuple[FramePlan | None, mi.Int32]:
         """Stage 3 on the host (§4): every visible candidate without a budget; with one, the plan
         of ``budget.plan_frame`` from the last frame's coverage (measured first, with nothing
-        traced, if this frame is the first of its size). Returns the plan and each object's
-        effect set for the device pass."""
+        traced, if this frame is the first of its size). Once the cost model is calibrated, the
+        last frame made that plan already while its GPU denoised (:meth:`_account`), with the cost
+        model as it stood before the last trace's time was known (one observation of up to 48
+        behind); it is used if this frame's settings are the same. Returns
+        the plan and each object's effect set for the device pass."""
         if settings.budget_ms <= 0:
             frame.traces = bool((frame.candidate_config >= 0).any())
             return None, frame.candidates
@@ -641,7 +644,10 @@ class HybridRenderer:
             probe = self._pass(settings, frame, mi.Int32(np.full(len(self.objects), -1, np.int32)), seed, 0, (0.5, 0.5))
             cov = self._coverage(frame, PassCounts.read(np.array(probe.counts), len(self.objects)))
             self.clock.frame_times()  # not this frame's work
-        plan = self._plan(settings, frame, state, cov)
+        ahead, state.next_plan = state.next_plan, None
+        made_for = (frame.static, repr(settings), frame.stats.spp)
+        plan = ahead[2] if ahead is not None and ahead[0] == made_for and ahead[1] is cov else \
+            self._plan(settings, frame, state, cov)
         config = np.full(len(self.objects), -1, dtype=np.int32)
         c = plan.candidates
         tier, whole = (c.index[plan.picked][mask] for mask in (c.tier[plan.picked], ~c.tier[plan.picked]))
@@ -777,6 +783,10 @@ class HybridRenderer:
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)
         state.coverage = cov
+        # the next frame's plan from what this one taught, while the GPU still denoises it (once the
+        # cost model has passed its probe frames, whose sizes follow its observations one by one)
+        if plan is not None and state.cost_model.calibrated:
+            state.next_plan = ((frame.static, repr(settings), frame.stats.spp), cov, self._plan(settings, frame, state, cov))
         clock.lap("readback")
         return learnt
 
@@ -795,6 +805,9 @@ class HybridRenderer:
             per_object, passes, expected = learnt
             state.cost_model.observe(dict(zip(RAY_KINDS, per_object.sum(axis=0) / passes)),
                                      stats.times_ms["trace"] / passes, expected=expected)
+            ahead = state.next_plan and state.next_plan[2]
+            if ahead and len(ahead.picked) and state.cost_model.predict(ahead.rays) > ahead.pass_budget_ms:
+                state.next_plan = None  # made ahead, it no longer fits what this trace took: planned again
             clock.lap("readback")
 
 

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import sys
 
 import drjit as dr
 import mitsuba as mi
@@ -140,6 +141,36 @@ def test_plan_fits_the_budget():
     assert tight.traced == {0}
     assert model.predict(tight.rays) <= 6.0
     assert plan_frame(objects, "exact", 0.1, 1, model).traced == set()
+
+
+def test_calibrated_budget_plans_the_next_frame_ahead():
+    """Once the cost model is calibrated, a budgeted frame plans the next one at its end (while the
+    GPU denoises): the next frame's selection spends no planning of its own, unless its settings
+    changed."""
+    scene = load(DEFAULT_SCENE)
+    integrator = hi.api._integrator({"budget_ms": 1000.0, "denoise": False})
+    for seed in range(5):  # the first three probe the machine
+        integrator.render_result(scene, seed=seed, spp=1, layers=False)
+    renderer = hi.api.renderer(scene)
+    callers = []  # which method asked for a plan
+    renderer._plan = lambda *a: (callers.append(sys._getframe(1).f_code.co_name), type(renderer)._plan(renderer, *a))[1]
+    try:
+        frame = integrator.render_result(scene, seed=5, spp=1, layers=False)
+        assert callers == ["_account"], callers  # its own plan was made ahead; it made the next one
+        assert frame.stats.selected and frame.stats.budget_met
+        callers.clear()
+        integrator.render_result(scene, seed=6, spp=2, layers=False)  # planned ahead for 1 spp: not used
+        assert callers == ["_select", "_account"], callers
+        # a trace far slower than the model expected: the plan made ahead no longer fits once this
+        # frame's time is learnt, and the next frame plans again
+        model = integrator.state.cost_model
+        model.history.extend([(row, 1e4, expected) for row, _, expected in list(model.history)])
+        integrator.render_result(scene, seed=7, spp=1, layers=False)
+        callers.clear()
+        integrator.render_result(scene, seed=8, spp=1, layers=False)
+        assert callers[0] == "_select", callers
+    finally:
+        del renderer._plan
 
 
 def test_budget_in_a_render():
