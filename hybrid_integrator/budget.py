@@ -160,8 +160,8 @@ class FrameState:
     #: per object, the learnt indirect irradiance that its shadow tier adds (lighting.py), RGB
     indirect: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
     #: the next frame's plan, made at the end of this one (``pipeline.HybridRenderer._select``),
-    #: as (what it was made for: device pass settings, integrator settings, spp; the coverage it
-    #: was made from; the ``FramePlan``)
+    #: as (what it was made for: the frame's set-up key and spp; the coverage it was made from;
+    #: the ``FramePlan``)
     next_plan: tuple | None = None
 
     @property

@@ -449,6 +449,7 @@ class _Frame:
     sensor: mi.Sensor
     camera: RasterCamera
     static: PassStatic
+    setup: tuple  # the key of its fixed parts (settings, sensor, size, AOVs, layers): ``_setups``
     active: np.ndarray  # per object and kind, whether it is traced when selected (heuristic.active_kinds)
     candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
     candidates: mi.Int32  # the same on the device (every candidate traced)
@@ -558,7 +559,7 @@ class HybridRenderer:
         stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
-        return _Frame(sensor=sensor, camera=camera, static=static, active=active, stats=stats,
+        return _Frame(sensor=sensor, camera=camera, static=static, setup=key, active=active, stats=stats,
                       candidate_config=candidate_config, candidates=every, tiers=tiers)
 
     def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
@@ -641,11 +642,12 @@ class HybridRenderer:
             return None, frame.candidates
         cov = state.coverage
         if not isinstance(cov, Coverage) or (cov.width, cov.height) != (frame.camera.width, frame.camera.height):
-            probe = self._pass(settings, frame, mi.Int32(np.full(len(self.objects), -1, np.int32)), seed, 0, (0.5, 0.5))
+            probe = self._pass(settings, frame, device_array(mi.Int32, np.full(len(self.objects), -1, np.int32)), seed, 0,
+                               (0.5, 0.5))
             cov = self._coverage(frame, PassCounts.read(np.array(probe.counts), len(self.objects)))
             self.clock.frame_times()  # not this frame's work
         ahead, state.next_plan = state.next_plan, None
-        made_for = (frame.static, repr(settings), frame.stats.spp)
+        made_for = (frame.setup, frame.stats.spp)
         plan = ahead[2] if ahead is not None and ahead[0] == made_for and ahead[1] is cov else \
             self._plan(settings, frame, state, cov)
         config = np.full(len(self.objects), -1, dtype=np.int32)
@@ -704,8 +706,10 @@ class HybridRenderer:
         frozen = settings.freeze and not camera.orthographic
         if frozen and frame.static not in self._frozen:  # made once: a new dr.freeze per pass would be waste
             self._frozen[frame.static] = dr.freeze(_BoundPass(frame.static, self.clock).run)
-        run = self._frozen[frame.static] if frozen else _BoundPass(frame.static, self.clock).run
-        output = run(self.scene, frame.sensor, data)
+        if frozen:
+            output = self._frozen[frame.static](self.scene, frame.sensor, data)
+        else:
+            output = device_pass(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")
         return output
 
@@ -786,7 +790,7 @@ class HybridRenderer:
         # the next frame's plan from what this one taught, while the GPU still denoises it (once the
         # cost model has passed its probe frames, whose sizes follow its observations one by one)
         if plan is not None and state.cost_model.calibrated:
-            state.next_plan = ((frame.static, repr(settings), frame.stats.spp), cov, self._plan(settings, frame, state, cov))
+            state.next_plan = ((frame.setup, frame.stats.spp), cov, self._plan(settings, frame, state, cov))
         clock.lap("readback")
         return learnt
 
