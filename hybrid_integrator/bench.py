@@ -54,6 +54,7 @@ from .errors import HybridError
 from .metrics import errors_in_parallel
 from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
+from .raster.camera import sensor_to_world
 from .raster.visibility import resolve_method
 from .scene import load_scene
 
@@ -141,7 +142,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         reference, gt_file, cached = ground_truth(spec if not spec.startswith("procedural:") else name, scene, params,
                                                   gt_spp, max_depth)
     sensor = scene.sensors()[0]
-    camera = mi.ScalarTransform4f(np.array(mi.traverse(sensor)["to_world"].matrix).reshape(4, 4))
+    camera = sensor_to_world(sensor)
     rows: list[Measurement] = []
     images: list = []  # each row's images: their errors are measured after every timing
     nan = float("nan")

@@ -45,6 +45,7 @@ import numpy as np
 
 from .errors import HybridError
 from .procedural import sphere_mesh
+from .raster.camera import sensor_to_world
 
 RES = (48, 36)
 PAPER = "shadow,reflection,refraction"
@@ -189,7 +190,7 @@ def run_case(case: Case) -> CaseResult:
         if case.frames > 1:
             import hybrid_integrator as hi
 
-            camera = mi.ScalarTransform4f(np.array(mi.traverse(scene_obj.sensors()[0])["to_world"].matrix).reshape(4, 4))
+            camera = sensor_to_world(scene_obj.sensors()[0])
             cameras = [mi.ScalarTransform4f().rotate([0, 1, 0], case.orbit * k / (case.frames - 1)) @ camera
                        for k in range(case.frames)]
             frames = hi.render_sequence(scene_obj, cameras, spp=case.spp, seed=5, layers=False, **case.props)

@@ -25,6 +25,7 @@ def main() -> int:
 
     mi.set_variant("llvm_ad_rgb")
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import sensor_to_world
     from hybrid_integrator.metrics import image_error
 
     def flip(image, ref) -> float:
@@ -37,7 +38,7 @@ def main() -> int:
         print(f"320x180, {spp} spp: FLIP denoised {flip(r.image, ref):.4f}, before the denoiser {flip(r.composed, ref):.4f}")
     scene = hi.load_scene(args.scene, resx=192, resy=108)
     ref = np.array(mi.render(scene, integrator=mi.load_dict({"type": "path"}), spp=1024))
-    camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    camera = sensor_to_world(scene.sensors()[0])
     for denoise in (True, False):
         frames = hi.render_sequence(scene, [camera] * args.frames, spp=1, temporal=True, denoise=denoise, layers=False)
         errors = [flip(f.image, ref) for f in frames]

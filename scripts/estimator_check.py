@@ -28,12 +28,13 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import sensor_to_world
 
     scene = hi.load_scene(ROOT / "scenes/armadillo_glass.xml", models_dir=str(args.models_dir), resx=320, resy=180)
     reference = np.array(mi.render(scene, integrator=mi.load_dict({"type": "path"}), spp=512, seed=1))
     gb = hi.rasterize(scene)
     armadillo = gb.shape_index == gb.shape_ids.index("armadillo")
-    camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    camera = sensor_to_world(scene.sensors()[0])
     for props in ({"freeze": True}, {"freeze": False}, {"freeze": True, "primary": "raytrace"}, {"candidates": ""}):
         frame = hi.render_sequence(scene, [camera] * 4, spp=8, **props)[-1]
         image = np.array(frame.image)[..., :3]

@@ -36,14 +36,14 @@ def main() -> None:
     args = parser.parse_args()
 
     import mitsuba as mi
-    import numpy as np
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import sensor_to_world
     from hybrid_integrator.bench import load_bench_scene
 
     scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))
-    camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    camera = sensor_to_world(scene.sensors()[0])
     props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {}),
              **({"rr_depth": args.rr_depth} if args.rr_depth is not None else {})}
     hi.render_sequence(scene, [camera] * 3, spp=args.spp, layers=False, **props)  # compiles and records

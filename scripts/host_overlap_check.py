@@ -32,13 +32,14 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import sensor_to_world
     from hybrid_integrator import pipeline
     from hybrid_integrator.bench import load_bench_scene
 
     defines = dict(d.split("=", 1) for d in args.defines)
     for path in args.scenes:
         scene, _ = load_bench_scene(str(path), defines)
-        camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+        camera = sensor_to_world(scene.sensors()[0])
         renderer = hi.api.renderer(scene)
         if renderer._counts is not None:
             seen = {"words": [], "outputs": []}

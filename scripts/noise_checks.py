@@ -42,6 +42,7 @@ def main() -> None:
 
     mi.set_variant("llvm_ad_rgb")
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import sensor_to_world
     from hybrid_integrator.api import renderer
     from hybrid_integrator.budget import FrameState
     from hybrid_integrator.compare import render_path
@@ -51,7 +52,7 @@ def main() -> None:
     text = args.scene.read_text()
     params = {"resx": args.resx, "resy": args.resy, **{k: str(v) for k, v in DIRS.items() if "$" + k in text}}
     scene = hi.load_scene(args.scene, **params)
-    camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    camera = sensor_to_world(scene.sensors()[0])
     hybrid = renderer(scene)
 
     def reference(spp: int) -> np.ndarray:

@@ -43,11 +43,12 @@ def main() -> int:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
     from hybrid_integrator.bench import load_bench_scene
     from hybrid_integrator.metrics import errors_in_parallel
 
     scene, name = load_bench_scene(args.scene, dict(d.split("=", 1) for d in args.defines))
-    start = np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4)
+    start = transform_matrix(sensor_to_world(scene.sensors()[0]))
     origin, right, forward, up = start[:3, 3], start[:3, 0], start[:3, 2], start[:3, 1]
     distance = float(np.linalg.norm(np.array(scene.bbox().center()) - origin))
     target = origin + forward * distance

@@ -13,6 +13,7 @@ from hybrid_integrator.api import renderer
 from hybrid_integrator.budget import FrameState
 from hybrid_integrator.metrics import image_error
 from hybrid_integrator.pipeline import HybridSettings
+from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
 from hybrid_integrator.selection_graph import Node, select
 from conftest import DEFAULT_SCENE, ROOT, SHARED_SCENES, load
 
@@ -28,7 +29,7 @@ def reference(scene, spp=256, seed=99):
 
 
 def camera_of(scene):
-    return mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    return sensor_to_world(scene.sensors()[0])
 
 
 def test_denoiser_with_gbuffer_guides_beats_noisy_frame_and_path():
@@ -89,7 +90,7 @@ def test_moving_camera_history_never_worse_than_no_history(denoise, size):
     a denoised frame's FLIP varies too much from frame to frame for this comparison (two frames of
     this path are worse than the tolerance with history, before the resolve too), at 160×120 none is."""
     scene = load(DEFAULT_SCENE, resx=size[0], resy=size[1])
-    start = np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4)
+    start = transform_matrix(sensor_to_world(scene.sensors()[0]))
     origin = start[:3, 3]
     target = origin + start[:3, 2]
     cameras = hi.camera_path([(origin, target), (origin + [0.6, 0.2, 0.0], target + [0.2, 0.0, 0.0])], 30)

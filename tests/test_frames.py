@@ -13,6 +13,7 @@ import pytest
 import hybrid_integrator as hi
 from hybrid_integrator.frames import chunks, render_frames
 from hybrid_integrator.io import read_exr
+from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
 from conftest import DEFAULT_SCENE
 
 SMALL = dict(resx=64, resy=48)
@@ -20,7 +21,7 @@ SMALL = dict(resx=64, resy=48)
 
 def _cameras(n: int):
     scene = hi.load_scene(DEFAULT_SCENE, **SMALL)
-    start = np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4)
+    start = transform_matrix(sensor_to_world(scene.sensors()[0]))
     origin, target = start[:3, 3], start[:3, 3] + start[:3, 2]
     return hi.camera_path([(origin, target), (origin + [0.4, 0.2, 0.0], target)], n)
 
@@ -32,7 +33,6 @@ def _fresh_process(cameras, out, seed: int) -> dict:
     import subprocess
     import sys
 
-    from hybrid_integrator.raster.camera import transform_matrix
 
     keys = json.dumps([transform_matrix(c).tolist() for c in cameras])
     done = subprocess.run([sys.executable, "-c", (

@@ -12,6 +12,7 @@ import pytest
 import hybrid_integrator as hi
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import CostModel, plan_frame
+from hybrid_integrator.raster.camera import sensor_to_world
 from hybrid_integrator.heuristic import BLOCKS, SPREAD, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
@@ -176,7 +177,7 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
 def test_budget_in_a_render():
     scene = load(DEFAULT_SCENE)
     everything = hi.render(scene, spp=1, seed=5)
-    camera = mi.ScalarTransform4f(np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4))
+    camera = sensor_to_world(scene.sensors()[0])
     # the first three frames probe the machine with the 1, 2 and 4 most relevant objects; calibrated,
     # the model knows that no batch fits in a microsecond
     starved = hi.render_sequence(scene, [camera] * 5, spp=1, seed=5, budget_ms=1e-3, denoise=False)

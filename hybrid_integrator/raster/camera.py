@@ -153,6 +153,12 @@ def transform_matrix(transform) -> np.ndarray:
     return np.array(getattr(transform, "matrix", transform), dtype=np.float64).reshape(4, 4)
 
 
+def sensor_to_world(sensor: mi.Sensor) -> mi.ScalarTransform4f:
+    """The sensor's camera-to-world transform (its ``to_world`` parameter) as a scalar transform:
+    the camera of a still view, or the start of a camera path."""
+    return mi.ScalarTransform4f(transform_matrix(mi.traverse(sensor)["to_world"]))
+
+
 def resolve_sensor(scene: mi.Scene, sensor: int | mi.Sensor) -> mi.Sensor:
     """Mitsuba's convention for ``sensor`` arguments: an index into ``scene.sensors()`` or a sensor."""
     if isinstance(sensor, mi.Sensor):

@@ -13,6 +13,7 @@ import pytest
 
 import hybrid_integrator as hi
 from hybrid_integrator.io import atomic_path, write_exr
+from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
 from conftest import DEFAULT_SCENE, ROOT, load
 
 SMALL = ["-D", "resx=16", "-D", "resy=12"]
@@ -94,7 +95,7 @@ def test_memory_is_flat_over_500_frames():
     """Host memory after 500 frames of a camera path (selection, budget and history carried) grows
     by at most 5 % over its level after the warm-up frames."""
     scene = load(DEFAULT_SCENE, resx=48, resy=36)
-    start = np.array(mi.traverse(scene.sensors()[0])["to_world"].matrix).reshape(4, 4)
+    start = transform_matrix(sensor_to_world(scene.sensors()[0]))
     origin, target = start[:3, 3], start[:3, 3] + start[:3, 2]
     cameras = hi.camera_path([(origin, target), (origin + [0.5, 0.2, 0.0], target)], 500)
     integrator = hi.api._integrator({"budget_ms": 5.0, "temporal": True})
