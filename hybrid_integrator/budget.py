@@ -111,9 +111,9 @@ class CostModel:
         seen = np.nonzero(rays.sum(axis=0) > 0)[0]
         # per-kind rates, each pulled towards the pooled one, as strongly as one observation over
         # the window's length: firmly while there are few observations, hardly once it is full
-        # (the median of each kind's traced passes; the statistics module's median and quantile
-        # take ~5 µs on 48 values where numpy's take 25-60: the fit runs after the frame's
-        # synchronization, on its critical path)
+        # (the median of each kind's traced passes; the statistics module's median and quantile,
+        # cheaper than numpy's on 48 values: the fit runs after the frame's synchronization, on
+        # its critical path; scripts/cost_model_fit.py times it)
         weight = np.array([statistics.median(column[column > 0].tolist()) for column in rays[:, seen].T]) / len(ms)
         prior = np.hstack([np.diag(weight), np.zeros((len(seen), 1))])
         solution, _ = nnls(np.vstack([np.hstack([rays[:, seen], ones]), prior]), np.r_[ms, weight * pooled])
