@@ -13,7 +13,7 @@ import hybrid_integrator as hi
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import CostModel, plan_frame
 from hybrid_integrator.raster.camera import sensor_to_world
-from hybrid_integrator.heuristic import BLOCKS, SPREAD, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
+from hybrid_integrator.heuristic import BLOCKS, KINDS, SPREAD, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
 
@@ -127,6 +127,21 @@ def test_cost_model_learns_per_kind_rates():
     for rays in ({"shadow": 5e3}, {"refraction": 3e3}, {"shadow": 2e3, "refraction": 2e3}):
         expected = 2.0 + sum(truth[k] * v for k, v in rays.items())
         assert model.predict(rays) == pytest.approx(expected, rel=0.05)
+
+
+def test_cost_model_margin_is_numpys_quantile_of_the_ratios():
+    """The margin (module docstring of budget.py) is the 95 % quantile of measured / fitted times,
+    interpolated as numpy.quantile interpolates, whatever computes it."""
+    model = CostModel()
+    rng = np.random.default_rng(3)
+    for n in range(40):
+        rays = {"shadow": float(rng.uniform(1e3, 1e4)), "reflection": float(rng.uniform(0, 5e3))}
+        model.observe(rays, (1.0 + 2e-4 * sum(rays.values())) * float(rng.uniform(0.8, 1.6)))
+        rows = np.array([row for row, _, _ in model.history])
+        ms = np.array([t for _, t, _ in model.history])
+        fitted = model.launch_ms + rows @ np.array([model.rates[k] for k in KINDS])
+        if n >= 1:  # two observations on: the fit (one scales the prior, without a margin)
+            assert model.margin == pytest.approx(np.clip(np.quantile(ms / fitted, 0.95), 1.0, 4.0), rel=1e-9)
 
 
 def test_plan_fits_the_budget():
