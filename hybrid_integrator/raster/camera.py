@@ -30,14 +30,19 @@ SUPPORTED_SENSORS = ("PerspectiveCamera", "OrthographicCamera")
 class _Kept:
     """What is kept per sensor: its ``mi.traverse``, made once (~0.1 ms a frame otherwise; the
     values it holds are the sensor's own members, which a ``params.update()`` changes in place, so
-    they stay current), and the last camera built, with the key of the parameters it was built
-    from. The sensor is held too, so that its ``id`` is not reused while this is kept."""
+    they stay current), the last camera built, with the key of the parameters it was built
+    from, and apart from it the last projection (``camera_to_sample`` and the principal point),
+    with the key of the intrinsics it was made from: a moving camera changes only ``to_world``, so
+    its frames read only that back from the device. The sensor is held too, so that its ``id`` is
+    not reused while this is kept."""
 
     sensor: mi.Sensor
     params: mi.SceneParameters
     key: tuple | None = None
     values: list | None = None  # copies of the parameters of ``key``: they keep its indices in use
     camera: "RasterCamera | None" = None
+    intrinsics: tuple | None = None  # the key of ``projection``
+    projection: tuple | None = None  # (camera_to_sample, ppx, ppy)
 
 
 #: per sensor (by ``id``), the oldest first
@@ -95,16 +100,22 @@ class RasterCamera:
         # the cache holds copies, which keep the variables they were made with
         values = [type(v)(v) for v in (params[k] for k in names)]
         near, far = sensor.near_clip(), sensor.far_clip()
-        key = (tuple(size), near, far, tuple(dr.detail.collect_indices(values)))
+        intrinsics = (tuple(size), near, far, tuple(dr.detail.collect_indices(values[:-1])))
+        key = (intrinsics, tuple(dr.detail.collect_indices(values[-1])))
         if kept.key == key:
             return kept.camera
         camera_to_world = transform_matrix(values[-1])
-        if orthographic:  # Mitsuba's orthographic sensor: its to_world scales the view volume
-            ppx = ppy = 0.0
-            camera_to_sample = transform_matrix(mi.orthographic_projection(size, crop_size, crop_offset, near, far))
-        else:
-            x_fov, ppx, ppy = (float(v[0]) for v in values[:3])
-            camera_to_sample = transform_matrix(mi.perspective_projection(size, crop_size, crop_offset, x_fov, near, far))
+        if kept.intrinsics != intrinsics:
+            # the projection on the host (the scalar variant's: the JIT one would launch a kernel
+            # and wait for it on the GPU), in float32 as Mitsuba's sensor makes it
+            if orthographic:  # Mitsuba's orthographic sensor: its to_world scales the view volume
+                ppx = ppy = 0.0
+                projection = mi.scalar_rgb.orthographic_projection(size, crop_size, crop_offset, near, far)
+            else:
+                x_fov, ppx, ppy = (float(v[0]) for v in values[:3])
+                projection = mi.scalar_rgb.perspective_projection(size, crop_size, crop_offset, x_fov, near, far)
+            kept.intrinsics, kept.projection = intrinsics, (transform_matrix(projection), ppx, ppy)
+        camera_to_sample, ppx, ppy = kept.projection
         sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
