@@ -399,7 +399,7 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     tier = np.zeros(len(index), dtype=bool)
     if tiers is not None:
         extra = index[np.asarray(tiers, dtype=bool)[index]]
-        index, tier = np.r_[index, extra], np.r_[tier, np.ones(len(extra), dtype=bool)]
+        index, tier = np.concatenate([index, extra]), np.concatenate([tier, np.ones(len(extra), dtype=bool)])
     keys = index + n * tier
     weights = error_weights(keys, errors)
     if errors is not None:  # a tier is worth nothing until measured (module docstring)

@@ -635,7 +635,8 @@ class HybridRenderer:
         traced, if this frame is the first of its size). Once the cost model is calibrated, the
         last frame made that plan already while its GPU denoised (:meth:`_account`), with the cost
         model as it stood before the last trace's time was known (one observation of up to 48
-        behind); it is used if this frame's settings are the same. Returns
+        behind); it is used if this frame's settings are the same and the last trace took no
+        longer than the model predicted (:meth:`_account_times`). Returns
         the plan and each object's effect set for the device pass."""
         if settings.budget_ms <= 0:
             frame.traces = bool((frame.candidate_config >= 0).any())
@@ -806,12 +807,15 @@ class HybridRenderer:
             stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")
         if learnt is not None:
+            # the refit waits for the next prediction: the next frame's plan, made ahead in this
+            # one's _account (while the GPU denoises), or in its _select if that plan is dropped here
             per_object, passes, expected = learnt
             state.cost_model.observe(dict(zip(RAY_KINDS, per_object.sum(axis=0) / passes)),
-                                     stats.times_ms["trace"] / passes, expected=expected)
-            ahead = state.next_plan and state.next_plan[2]
-            if ahead and len(ahead.picked) and state.cost_model.predict(ahead.rays) > ahead.pass_budget_ms:
-                state.next_plan = None  # made ahead, it no longer fits what this trace took: planned again
+                                     stats.times_ms["trace"] / passes, expected=expected, fit=False)
+            if state.next_plan and stats.times_ms["trace"] > stats.predicted_trace_ms:
+                # made ahead by a model that this trace has just shown too optimistic: the next
+                # frame plans again, with the model refitted to this trace
+                state.next_plan = None
             clock.lap("readback")
 
 

@@ -1,5 +1,5 @@
 """Host time of the budget's cost-model fit (``budget.CostModel``), which a budgeted frame runs
-after its synchronization, on its critical path (``pipeline.HybridRenderer._account_times``).
+once, before its next plan is made (``pipeline.HybridRenderer._account``, while the GPU denoises).
 
 A full window of observations (48 passes; rays by kind drawn from a fixed seed, times from a
 linear model with noise), then ``observe`` one more pass (which refits) ``--repeats`` times; prints

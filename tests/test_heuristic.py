@@ -177,14 +177,18 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
         callers.clear()
         integrator.render_result(scene, seed=6, spp=2, layers=False)  # planned ahead for 1 spp: not used
         assert callers == ["_select", "_account"], callers
-        # a trace far slower than the model expected: the plan made ahead no longer fits once this
-        # frame's time is learnt, and the next frame plans again
+        # a trace slower than the model predicted (a model that expects it to cost nothing): the
+        # plan made ahead by that model is dropped, and the next frame plans again, with the model
+        # refitted to that trace
         model = integrator.state.cost_model
-        model.history.extend([(row, 1e4, expected) for row, _, expected in list(model.history)])
-        integrator.render_result(scene, seed=7, spp=1, layers=False)
+        model.current().rates, model.launch_ms = dict.fromkeys(model.rates, 0.0), 1e-9
+        seventh = integrator.render_result(scene, seed=7, spp=1, layers=False)
+        assert seventh.stats.times_ms["trace"] > seventh.stats.predicted_trace_ms
+        assert model.stale  # observed, not yet refitted: the refit waits for the next plan
         callers.clear()
         integrator.render_result(scene, seed=8, spp=1, layers=False)
         assert callers[0] == "_select", callers
+        assert model.launch_ms > 1e-6  # refitted before that plan
     finally:
         del renderer._plan
 
