@@ -251,3 +251,10 @@ def test_raster_camera_sees_parameters_changed_through_another_traversal():
     fresh = cam.RasterCamera.from_sensor(sensor)
     assert not np.allclose(seen.world_to_clip, first.world_to_clip)
     assert np.allclose(seen.world_to_clip, fresh.world_to_clip) and np.allclose(seen.eye, [0.3, 1.0, 4.0])
+    # the projection is kept apart from the pose: a zoom alone (the same pose) must reach it too
+    params["x_fov"] = 40.0
+    params.update()
+    zoomed = cam.RasterCamera.from_sensor(sensor)
+    cam._CAMERAS.clear()
+    assert np.allclose(zoomed.world_to_clip, cam.RasterCamera.from_sensor(sensor).world_to_clip)
+    assert not np.allclose(zoomed.world_to_clip, fresh.world_to_clip)
