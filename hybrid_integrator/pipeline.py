@@ -198,16 +198,18 @@ class HybridResult:
 
 
 @functools.lru_cache(maxsize=16)
-def _halton(spp: int) -> np.ndarray:
-    return qmc.Halton(d=2, scramble=False).random(spp + 1)[1:]  # the first point is (0, 0)
+def _halton(spp: int) -> tuple[tuple[float, float], ...]:
+    return tuple(map(tuple, qmc.Halton(d=2, scramble=False).random(spp + 1)[1:].tolist()))  # the first point is (0, 0)
 
 
 def subpixel_offsets(spp: int, seed: int) -> list[tuple[float, float]]:
     """``spp`` sub-pixel positions in [0,1)²: the Halton sequence (low discrepancy), shifted
     modulo 1 by a random offset drawn from ``seed`` (a Cranley–Patterson rotation: each seed gives
-    another low-discrepancy set, at the cost of two random numbers, not a new scrambling)."""
-    shift = np.random.default_rng(seed).random(2)
-    return [(float(x), float(y)) for x, y in np.mod(_halton(spp) + shift, 1.0)]
+    another low-discrepancy set, at the cost of two random numbers, not a new scrambling). The sum
+    is taken in Python floats (the same values as numpy's): this is a frame's first host work,
+    before its raster pass is issued, where numpy's small arrays cost more than the sum."""
+    sx, sy = np.random.default_rng(seed).random(2).tolist()
+    return [((x + sx) % 1.0, (y + sy) % 1.0) for x, y in _halton(spp)]
 
 
 class StageClock:
