@@ -1,0 +1,78 @@
+"""Host time of a frame's methods on a camera path, default and budgeted (issue 10).
+
+Wraps the renderer's own methods and the heuristic's functions on one process (no copy of their
+code) with ``time.perf_counter`` and renders the 226-object camera path (``scenes/many_objects.xml``
+and its ``_path.json``) twice: with every candidate traced, and with a budget. Prints per run the
+frame's median ``FrameStats.host_ms`` by phase, then per wrapped function its median time per call
+and its mean time per frame: where the host's share of a frame goes, function by function.
+
+    python3 scripts/host_phases.py --variant cuda_ad_rgb --resx 1280 --resy 720 --budget 2.47
+"""
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import statistics
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--variant", default="llvm_ad_rgb")
+    parser.add_argument("--resx", type=int, default=320)
+    parser.add_argument("--resy", type=int, default=180)
+    parser.add_argument("--frames", type=int, default=50)
+    parser.add_argument("--budget", type=float, default=2.47, help="the budgeted run's budget_ms")
+    args = parser.parse_args()
+
+    import mitsuba as mi
+
+    mi.set_variant(args.variant)
+    import hybrid_integrator as hi
+    from hybrid_integrator import budget, heuristic, pipeline
+
+    times = collections.defaultdict(list)
+
+    def wrap(owner, name: str) -> None:
+        function = getattr(owner, name)
+
+        def timed(*a, **k):
+            start = time.perf_counter()
+            out = function(*a, **k)
+            times[name].append((time.perf_counter() - start) * 1e3)
+            return out
+        setattr(owner, name, timed)
+
+    renderer = pipeline.HybridRenderer
+    for owner, names in ((pipeline, ("candidates", "plan_frame", "learn_ambient", "visibility_terms", "develop",
+                                     "subpixel_offsets", "ambient_table", "device_array")),
+                         (renderer, ("_frame", "_visibility", "_select", "_device", "_post", "_account", "_plan",
+                                     "_account_times")),
+                         (budget.FrameState, ("learn_rays", "learn_errors")), (budget.CostModel, ("observe", "_fit")),
+                         (pipeline.PassCounts, ("read",)), (heuristic.Coverage, ("of",)),
+                         (pipeline.StageClock, ("frame_times",)), (pipeline.Denoiser, ("__call__",))):
+        for name in names:
+            wrap(owner, name)
+    hi.register()
+    path = ROOT / "scenes/many_objects.xml"
+    scene = hi.load_scene(path, resx=args.resx, resy=args.resy)
+    cameras = hi.camera_path(json.loads(path.with_name("many_objects_path.json").read_text())["keyframes"], args.frames)
+    for budget_ms in (0.0, args.budget):
+        hi.render_sequence(scene, cameras[:3], spp=1, layers=False, budget_ms=budget_ms)  # warm-up
+        times.clear()
+        frames = hi.render_sequence(scene, cameras, spp=1, layers=False, budget_ms=budget_ms)[3:]
+        stats = [f.stats for f in frames]
+        print(f"budget_ms={budget_ms}: frame {statistics.median(s.times_ms['total'] for s in stats):.3f} ms, "
+              f"trace {statistics.median(s.times_ms['trace'] for s in stats):.3f} ms")
+        print("  host_ms", {k: round(statistics.median(s.host_ms[k] for s in stats), 3) for k in stats[0].host_ms})
+        for name, values in times.items():
+            print(f"  {name:16s} n={len(values):3d}  median {statistics.median(values):.3f} ms per call, "
+                  f"{sum(values) / len(frames):.3f} ms per frame")
+
+
+if __name__ == "__main__":
+    main()
