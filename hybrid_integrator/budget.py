@@ -18,9 +18,12 @@ the 95th percentile (``quantile``), over the window, of measured time / the fit 
 that were *expected*: the prediction is one that 95 % of recent passes stayed under, both errors
 included. (A 90th percentile over a window of 48 left 87–89 % of the GPU frames within budget +
 10 %: the quantile of a short window is itself uncertain, so the target needs a margin above it.) A frame that traces
-nothing while candidates are visible forgets the window's slowest observation relative to the fit
-if it is an outlier, so that one stall cannot keep the model too pessimistic to ever trace again;
-a budget below the fixed cost of a launch consistently measured traces nothing.
+nothing while candidates are visible still runs its trace stage: it is observed as a pass of zero
+rays, the fixed part t0 measured alone (probes whose times hardly grow with their rays, on a busy
+machine, otherwise extrapolate a t0 above a small budget, and nothing is ever traced again); it
+also forgets the window's slowest observation relative to the fit if it is an outlier, so that one
+stall cannot keep the model too pessimistic. A budget below the fixed cost of a launch
+consistently measured traces nothing.
 
 **One trace call per pass.** The selected objects are traced together: one trace call traces
 objects with different ray kinds (``trace.py``: each pixel spawns the kinds its object deserves),

@@ -767,9 +767,12 @@ class HybridRenderer:
             stats.relevance_captured = float(c.relevance[traced].sum() / total) if total > 0 else 1.0
             stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if planned else 0.0
             stats.predicted_rays = int(sum(plan.rays.values()) * len(passes))
-            if planned:  # the trace's time is known after the synchronization
+            if planned or len(c):  # the trace's time is known after the synchronization
+                # a frame that traces nothing still runs its trace stage: its time is the fixed
+                # part t0 measured alone (zero rays), which the model could otherwise only
+                # extrapolate, too high after probes whose times hardly grew with their rays
                 learnt = (per_object, len(passes), plan.rays)
-            elif len(c):
+            if len(c) and not planned:
                 state.cost_model.forget_slowest()
         if len(ordered):
             errors, pairs, residual, albedo, indirect, tier_errors = (

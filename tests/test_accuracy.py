@@ -149,8 +149,9 @@ def test_shadow_tier_traces_shadows_alone_with_the_learnt_indirect_light():
             renderer(scene).render(settings, seed=seed, spp=1, state=state, layers=False)
         # the first of the next frames that traces something: a frame whose cost model was
         # calibrated while the machine was busy may trace nothing at all, and each such frame
-        # drops one outlier from the model (budget.CostModel.forget_slowest): four frames were
-        # seen not to be enough in about one run in five on the CI machine
+        # teaches the model its fixed part (a trace of zero rays) and drops one outlier from it
+        # (budget.CostModel.forget_slowest): four frames were seen not to be enough in about one
+        # run in five on the CI machine before the first of these
         frames = (renderer(scene).render(settings, seed=seed, spp=1, state=state, layers=False) for seed in range(9, 17))
         frame = next((f for f in frames if f.stats.selected), None)
         assert frame is not None, "eight budgeted frames in a row traced nothing"

@@ -193,15 +193,32 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
         del renderer._plan
 
 
+def test_cost_model_learns_its_fixed_part_from_a_trace_of_nothing():
+    """Probes whose times hardly grow with their rays (a busy machine) extrapolate a fixed part t0
+    above a small budget, so nothing is traced; a frame that traces nothing measures t0 alone
+    (zero rays), and with it the model has room for what the probes' rates say fits."""
+    model = CostModel()
+    for rays, ms in ((1e3, 4.0), (2e3, 4.2), (4e3, 5.0)):  # t = 1 + 1e-3 · rays, the first pass stalled
+        model.observe({"shadow": rays}, ms)
+    assert model.launch() > 3.0  # a budget of 3 ms has no room left
+    model.observe({}, 1.0)
+    assert model.launch() < 2.8 and model.predict({"shadow": 100}) < 3.0  # a small object fits now
+
+
 def test_budget_in_a_render():
     scene = load(DEFAULT_SCENE)
     everything = hi.render(scene, spp=1, seed=5)
     camera = sensor_to_world(scene.sensors()[0])
     # the first three frames probe the machine with the 1, 2 and 4 most relevant objects; calibrated,
     # the model knows that no batch fits in a microsecond
-    starved = hi.render_sequence(scene, [camera] * 5, spp=1, seed=5, budget_ms=1e-3, denoise=False)
+    integrator = hi.api._integrator({"budget_ms": 1e-3, "denoise": False})
+    starved = [integrator.render_result(scene, sensor=0, seed=5 + k, spp=1) for k in range(5)]
     assert [len(f.stats.selected) for f in starved] == [1, 2, 4, 0, 0]
     assert starved[-1].stats.secondary_rays == 0
+    # the frames that traced nothing still timed their trace stage: the cost model's fixed part
+    history = integrator.state.cost_model.history
+    assert len(history) == 5 and history[-1][0] == [0.0] * 4 and history[-1][1] == pytest.approx(
+        starved[-1].stats.times_ms["trace"])
     assert np.allclose(np.array(starved[-1].image), starved[-1].layers["raster"], rtol=1e-5, atol=1e-6)
     frames = hi.render_sequence(scene, [camera] * 4, spp=1, seed=5, budget_ms=1e6)
     assert [len(f.stats.selected) for f in frames[:3]] == [1, 2, 4]
