@@ -16,6 +16,7 @@ axis convention to ``x_fov`` when it built the sensor.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import drjit as dr
@@ -97,13 +98,15 @@ class RasterCamera:
         # the cache) keeps their indices from being reused, so equal indices mean equal values,
         # without reading them back from the device. The objects ``traverse`` returns are the
         # sensor's own and are updated in place (new indices, the old ones freed and reused), so
-        # the cache holds copies, which keep the variables they were made with
-        values = [type(v)(v) for v in (params[k] for k in names)]
+        # the cache holds copies (made only when the key changes), which keep the variables they
+        # were made with
+        live = [params[k] for k in names]
         near, far = sensor.near_clip(), sensor.far_clip()
-        intrinsics = (tuple(size), near, far, tuple(dr.detail.collect_indices(values[:-1])))
-        key = (intrinsics, tuple(dr.detail.collect_indices(values[-1])))
+        intrinsics = (tuple(size), near, far, tuple(dr.detail.collect_indices(live[:-1])))
+        key = (intrinsics, tuple(dr.detail.collect_indices(live[-1])))
         if kept.key == key:
             return kept.camera
+        values = [type(v)(v) for v in live]
         camera_to_world = transform_matrix(values[-1])
         if kept.intrinsics != intrinsics:
             # the projection on the host (the scalar variant's: the JIT one would launch a kernel
@@ -136,15 +139,11 @@ class RasterCamera:
         Mitsuba's camera rays start on it. An orthographic camera has w = 1: its depth is
         ``(far − z) / (far − near)`` of the camera-space z, 1 on the near plane and 0 on the far
         one."""
-        ox, oy = offset
-        shift = np.eye(4)
-        shift[0, 3] = (1.0 - 2.0 * ox) / self.width
-        shift[1, 3] = (1.0 - 2.0 * oy) / self.height
-        clip = shift @ self.world_to_clip
-        if self.orthographic:
-            clip[2] = (np.array([0.0, 0.0, 0.0, self.far_clip]) - self.depth_row) / (self.far_clip - self.near_clip)
-        else:
-            clip[2] = (0.0, 0.0, 0.0, self.near_clip)
+        sx, sy = self._shift(offset)
+        clip, _, _ = self._unshifted
+        clip = clip.copy()
+        clip[0] += sx * clip[3]
+        clip[1] += sy * clip[3]
         return clip
 
     def relative_clip(self, offset: tuple[float, float] = (0.5, 0.5)) -> tuple[np.ndarray, np.ndarray]:
@@ -152,11 +151,31 @@ class RasterCamera:
         matrix ``M'`` with ``M' · (p − o, 1) = M · (p, 1)``, its last column ``M · (o, 1)`` made in
         float64, and ``o`` (float32). The vertex shader's ``p − o`` is exact near the eye, so a
         scene 1e6 units from the origin is drawn as precisely as one at it."""
-        origin = self.eye.astype(np.float32)
-        clip = self.clip_matrix(offset)
-        relative = clip.copy()
-        relative[:, 3] = clip @ np.r_[origin.astype(np.float64), 1.0]
+        sx, sy = self._shift(offset)
+        _, column, origin = self._unshifted
+        relative = self.clip_matrix(offset)
+        relative[:, 3] = column
+        relative[0, 3] += sx * column[3]
+        relative[1, 3] += sy * column[3]
         return relative, origin
+
+    def _shift(self, offset: tuple[float, float]) -> tuple[float, float]:
+        """The clip-space x and y shift that moves sub-pixel position ``offset`` onto the pixel
+        centres: the sample's shift adds these times clip w (row 3) to rows 0 and 1."""
+        return (1.0 - 2.0 * offset[0]) / self.width, (1.0 - 2.0 * offset[1]) / self.height
+
+    @functools.cached_property
+    def _unshifted(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What :meth:`clip_matrix` and :meth:`relative_clip` share across sub-pixel offsets (made
+        once per camera; a frame's raster pass then costs a few row operations): the world → clip
+        matrix with its depth row, its product with the eye ``(o, 1)`` in float64, and ``o``."""
+        clip = self.world_to_clip.copy()
+        if self.orthographic:
+            clip[2] = (np.array([0.0, 0.0, 0.0, self.far_clip]) - self.depth_row) / (self.far_clip - self.near_clip)
+        else:
+            clip[2] = (0.0, 0.0, 0.0, self.near_clip)
+        origin = self.eye.astype(np.float32)
+        return clip, clip @ np.r_[origin.astype(np.float64), 1.0], origin
 
 
 def transform_matrix(transform) -> np.ndarray:
