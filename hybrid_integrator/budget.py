@@ -20,7 +20,8 @@ included. (A 90th percentile over a window of 48 left 87–89 % of the GPU frame
 10 %: the quantile of a short window is itself uncertain, so the target needs a margin above it.) A frame that traces
 nothing while candidates are visible still runs its trace stage: it is observed as a pass of zero
 rays, the fixed part t0 measured alone (probes whose times hardly grow with their rays, on a busy
-machine, otherwise extrapolate a t0 above a small budget, and nothing is ever traced again); it
+machine, otherwise extrapolate a t0 above a small budget, and nothing is ever traced again; a
+window of such passes alone refits t0 and keeps the rates learnt before them); it
 also forgets the window's slowest observation relative to the fit if it is an outlier, so that one
 stall cannot keep the model too pessimistic. A budget below the fixed cost of a launch
 consistently measured traces nothing.
@@ -127,9 +128,13 @@ class CostModel:
             self.rates = {k: v * scale for k, v in self.rates.items()}
             self.launch_ms *= scale
             return
+        seen = np.nonzero(rays.sum(axis=0) > 0)[0]
+        if not len(seen):  # the window holds traces of nothing alone: they measure t0; the rates stay as learnt
+            self.launch_ms = float(ms.mean())
+            self.margin = float(np.clip(_quantile((ms / max(self.launch_ms, 1e-9)).tolist(), self.quantile), 1.0, 4.0))
+            return
         ones = np.ones((len(ms), 1))
         (pooled, launch), _ = nnls(np.hstack([rays.sum(axis=1, keepdims=True), ones]), ms)
-        seen = np.nonzero(rays.sum(axis=0) > 0)[0]
         # per-kind rates, each pulled towards the pooled one, as strongly as one observation over
         # the window's length: firmly while there are few observations, hardly once it is full
         # (the median of each kind's traced passes; the statistics module's median and quantile,

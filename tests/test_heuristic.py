@@ -203,6 +203,13 @@ def test_cost_model_learns_its_fixed_part_from_a_trace_of_nothing():
     assert model.launch() > 3.0  # a budget of 3 ms has no room left
     model.observe({}, 1.0)
     assert model.launch() < 2.8 and model.predict({"shadow": 100}) < 3.0  # a small object fits now
+    # a window of traces of nothing alone (a budget held at nothing for a while) measures t0 and
+    # leaves the rates learnt before: a larger budget later is planned with them
+    for _ in range(model.window):
+        model.observe({}, 1.0)
+    assert all(row == [0.0] * 4 for row, _, _ in model.history)
+    assert model.launch_ms == pytest.approx(1.0) and model.margin == 1.0
+    assert model.rates["shadow"] > 5e-4 and model.predict({"shadow": 1e3}) > 1.5  # the last fit's rate
 
 
 def test_budget_in_a_render():
