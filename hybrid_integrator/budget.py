@@ -129,10 +129,16 @@ class CostModel:
             self.launch_ms *= scale
             return
         seen = np.nonzero(rays.sum(axis=0) > 0)[0]
-        if not len(seen):  # the window holds traces of nothing alone: they measure t0; the rates stay as learnt
+        if len(seen):
+            self._fit_rates(rays, ms, seen)
+        else:  # the window holds traces of nothing alone: they measure t0; the rates stay as learnt
             self.launch_ms = float(ms.mean())
-            self.margin = float(np.clip(_quantile((ms / max(self.launch_ms, 1e-9)).tolist(), self.quantile), 1.0, 4.0))
-            return
+        expected = np.array([row for _, _, row in self.history])
+        fitted = self.launch_ms + (expected * self._rate_vector()).sum(axis=1)
+        self.margin = float(np.clip(_quantile((ms / np.maximum(fitted, 1e-9)).tolist(), self.quantile), 1.0, 4.0))
+
+    def _fit_rates(self, rays: np.ndarray, ms: np.ndarray, seen: np.ndarray) -> None:
+        """t0 and the rates of the kinds ``seen`` in the window (the others: the pooled rate)."""
         ones = np.ones((len(ms), 1))
         (pooled, launch), _ = nnls(np.hstack([rays.sum(axis=1, keepdims=True), ones]), ms)
         # per-kind rates, each pulled towards the pooled one, as strongly as one observation over
@@ -145,9 +151,6 @@ class CostModel:
         solution, _ = nnls(np.vstack([np.hstack([rays[:, seen], ones]), prior]), np.r_[ms, weight * pooled])
         self.rates = dict.fromkeys(KINDS, pooled) | {KINDS[c]: float(x) for c, x in zip(seen, solution[:-1])}
         self.launch_ms = float(solution[-1])
-        expected = np.array([row for _, _, row in self.history])
-        fitted = self.launch_ms + (expected * self._rate_vector()).sum(axis=1)
-        self.margin = float(np.clip(_quantile((ms / np.maximum(fitted, 1e-9)).tolist(), self.quantile), 1.0, 4.0))
 
 
 def _quantile(values: list[float], q: float) -> float:
