@@ -1,12 +1,14 @@
-"""Host time of a frame's methods on a camera path, default and budgeted (issue 10).
+"""Host time of a frame's methods, default and budgeted (issue 10).
 
-Wraps the renderer's own methods and the heuristic's functions on one process (no copy of their
-code) with ``time.perf_counter`` and renders the 226-object camera path (``scenes/many_objects.xml``
-and its ``_path.json``) twice: with every candidate traced, and with a budget. Prints per run the
-frame's median ``FrameStats.host_ms`` by phase, then per wrapped function its median time per call
-and its mean time per frame: where the host's share of a frame goes, function by function.
+Wraps the renderer's own methods, the raster pass's parts and the heuristic's functions in one
+process (no copy of their code) with ``time.perf_counter`` and renders the 226-object camera path
+(``scenes/many_objects.xml`` and its ``_path.json``), or with ``--still`` a scene's own view,
+twice: with every candidate traced, and with a budget. Prints per run the frame's median
+``FrameStats.host_ms`` by phase, then per wrapped function its median time per call and its mean
+time per frame: where the host's share of a frame goes, function by function.
 
     python3 scripts/host_phases.py --variant cuda_ad_rgb --resx 1280 --resy 720 --budget 2.47
+    python3 scripts/host_phases.py --variant cuda_ad_rgb --resx 1280 --resy 720 --still scenes/armadillo_glass.xml -D models_dir=…
 """
 from __future__ import annotations
 
@@ -27,6 +29,9 @@ def main() -> None:
     parser.add_argument("--resy", type=int, default=180)
     parser.add_argument("--frames", type=int, default=50)
     parser.add_argument("--budget", type=float, default=2.47, help="the budgeted run's budget_ms")
+    parser.add_argument("--still", type=Path, default=None, metavar="SCENE",
+                        help="render SCENE's own view (still), not the 226 objects' camera path")
+    parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
 
     import mitsuba as mi
@@ -34,16 +39,17 @@ def main() -> None:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator import budget, heuristic, pipeline
+    from hybrid_integrator.raster import camera, compute, interop, visibility
 
     times = collections.defaultdict(list)
 
     def wrap(owner, name: str) -> None:
-        function = getattr(owner, name)
+        function, label = getattr(owner, name), f"{owner.__name__.rsplit('.', 1)[-1]}.{name}"
 
         def timed(*a, **k):
             start = time.perf_counter()
             out = function(*a, **k)
-            times[name].append((time.perf_counter() - start) * 1e3)
+            times[label].append((time.perf_counter() - start) * 1e3)
             return out
         setattr(owner, name, timed)
 
@@ -54,13 +60,23 @@ def main() -> None:
                                      "_account_times")),
                          (budget.FrameState, ("learn_rays", "learn_errors")), (budget.CostModel, ("observe", "_fit")),
                          (pipeline.PassCounts, ("read",)), (heuristic.Coverage, ("of",)),
-                         (pipeline.StageClock, ("frame_times",)), (pipeline.Denoiser, ("__call__",))):
+                         (pipeline.StageClock, ("frame_times",)), (pipeline.Denoiser, ("__call__",)),
+                         (pipeline, ("gl_flush",)), (visibility.Rasterizer, ("render", "device_ids", "_release")),
+                         (compute.ComputeVisibility, ("render", "_run")), (camera.RasterCamera, ("relative_clip",)),
+                         (interop._SharedImage, ("copy", "release"))):
         for name in names:
             wrap(owner, name)
     hi.register()
-    path = ROOT / "scenes/many_objects.xml"
-    scene = hi.load_scene(path, resx=args.resx, resy=args.resy)
-    cameras = hi.camera_path(json.loads(path.with_name("many_objects_path.json").read_text())["keyframes"], args.frames)
+    defines = dict(d.split("=", 1) for d in args.defines)
+    if args.still is None:
+        path = ROOT / "scenes/many_objects.xml"
+        scene = hi.load_scene(path, resx=args.resx, resy=args.resy, **defines)
+        cameras = hi.camera_path(json.loads(path.with_name("many_objects_path.json").read_text())["keyframes"], args.frames)
+    else:
+        from hybrid_integrator.raster.camera import sensor_to_world
+
+        scene = hi.load_scene(args.still, resx=args.resx, resy=args.resy, **defines)
+        cameras = [sensor_to_world(scene.sensors()[0])] * args.frames
     for budget_ms in (0.0, args.budget):
         hi.render_sequence(scene, cameras[:3], spp=1, layers=False, budget_ms=budget_ms)  # warm-up
         times.clear()
@@ -70,7 +86,7 @@ def main() -> None:
               f"trace {statistics.median(s.times_ms['trace'] for s in stats):.3f} ms")
         print("  host_ms", {k: round(statistics.median(s.host_ms[k] for s in stats), 3) for k in stats[0].host_ms})
         for name, values in times.items():
-            print(f"  {name:16s} n={len(values):3d}  median {statistics.median(values):.3f} ms per call, "
+            print(f"  {name:32s} n={len(values):3d}  median {statistics.median(values):.3f} ms per call, "
                   f"{sum(values) / len(frames):.3f} ms per frame")
 
 
