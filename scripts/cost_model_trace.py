@@ -29,10 +29,11 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.bench import load_bench_scene
     from hybrid_integrator.raster.camera import sensor_to_world
 
     hi.register()
-    scene = hi.load_scene(args.scene, **dict(d.split("=", 1) for d in args.defines))
+    scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))  # the -D it takes
     camera = sensor_to_world(scene.sensors()[0])
     everything = hi.render_sequence(scene, [camera] * 6, spp=1, layers=False)[2:]
     trace_all = statistics.median(f.stats.times_ms["trace"] for f in everything)

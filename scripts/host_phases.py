@@ -75,7 +75,9 @@ def main() -> None:
     else:
         from hybrid_integrator.raster.camera import sensor_to_world
 
-        scene = hi.load_scene(args.still, resx=args.resx, resy=args.resy, **defines)
+        from hybrid_integrator.bench import load_bench_scene
+
+        scene, _ = load_bench_scene(str(args.still), {"resx": args.resx, "resy": args.resy, **defines})
         cameras = [sensor_to_world(scene.sensors()[0])] * args.frames
     for budget_ms in (0.0, args.budget):
         hi.render_sequence(scene, cameras[:3], spp=1, layers=False, budget_ms=budget_ms)  # warm-up
