@@ -226,6 +226,8 @@ def test_budget_in_a_render():
     history = integrator.state.cost_model.history
     assert len(history) == 5 and history[-1][0] == [0.0] * 4 and history[-1][1] == pytest.approx(
         starved[-1].stats.times_ms["trace"])
+    # the probes' rays came from the prior, no prediction: each expected what it traced
+    assert all(rays == expected for rays, _, expected in list(history)[:3]) and history[0][0] != [0.0] * 4
     assert np.allclose(np.array(starved[-1].image), starved[-1].layers["raster"], rtol=1e-5, atol=1e-6)
     frames = hi.render_sequence(scene, [camera] * 4, spp=1, seed=5, budget_ms=1e6)
     assert [len(f.stats.selected) for f in frames[:3]] == [1, 2, 4]
