@@ -237,6 +237,9 @@ class FramePlan:
     picked: np.ndarray  # rows of ``candidates`` traced (their pixels, in one trace call per pass)
     rays: dict[str, float]  # the secondary rays per kind they are expected to spawn, per pass
     pass_budget_ms: float  # the trace time allowed per sample pass (inf: unlimited)
+    #: a probe of the uncalibrated model (``plan_frame``): its ``rays`` come from the prior's rays
+    #: per pixel, no prediction, and it is observed as expecting what it traced
+    probe: bool = False
 
     @property
     def traced(self) -> set[int]:
@@ -244,13 +247,13 @@ class FramePlan:
         return set(self.candidates.index[self.picked].tolist())
 
 
-def _plan(c: Candidates, picked: np.ndarray, budget: float) -> FramePlan:
+def _plan(c: Candidates, picked: np.ndarray, budget: float, probe: bool = False) -> FramePlan:
     picked = np.asarray(picked, dtype=np.int64)
     # an object picked whole and by its shadow tier is traced whole: the tier's rays are part of it
     whole = np.zeros(int(c.index.max()) + 1 if len(c) else 0, dtype=bool)
     whole[c.index[picked][~c.tier[picked]]] = True
     picked = picked[~(c.tier[picked] & whole[c.index[picked]])]
-    return FramePlan(c, picked, c.rays_of(picked), budget)
+    return FramePlan(c, picked, c.rays_of(picked), budget, probe)
 
 
 def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostModel, pointers: int = 4) -> FramePlan:
@@ -269,7 +272,8 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     pass_budget = budget_ms / max(spp, 1)
     if not model.calibrated:  # probes of 1, 2, 4 whole objects: different ray counts separate t0 from the rates
         whole = np.nonzero(~c.tier)[0]
-        return _plan(c, whole[np.argsort(-c.relevance[whole], kind="stable")][:2 ** len(model.history)], pass_budget)
+        return _plan(c, whole[np.argsort(-c.relevance[whole], kind="stable")][:2 ** len(model.history)], pass_budget,
+                     probe=True)
     room = pass_budget - model.launch()
     if room <= 0 or not len(c):
         return _plan(c, [], pass_budget)

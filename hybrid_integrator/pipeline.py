@@ -771,10 +771,9 @@ class HybridRenderer:
                 # a frame that traces nothing still runs its trace stage: its time is the fixed
                 # part t0 measured alone (zero rays), which the model could otherwise only
                 # extrapolate, too high after probes whose times hardly grew with their rays
-                # a probe's rays were not a prediction (it traces the 1, 2, 4 most relevant objects
-                # whatever their cost, from the prior's rays per pixel): it is observed as
+                # a probe's rays were not a prediction (budget.FramePlan.probe): it is observed as
                 # expecting what it traced, so that the margin holds the planner's errors alone
-                learnt = (per_object, len(passes), plan.rays if state.cost_model.calibrated else None)
+                learnt = (per_object, len(passes), None if plan.probe else plan.rays)
             if len(c) and not planned:
                 state.cost_model.forget_slowest()
         if len(ordered):

@@ -33,8 +33,8 @@ class _Kept:
     values it holds are the sensor's own members, which a ``params.update()`` changes in place, so
     they stay current), the last camera built, with the key of the parameters it was built
     from, and apart from it the last projection (``camera_to_sample`` and the principal point),
-    with the key of the intrinsics it was made from: a moving camera changes only ``to_world``, so
-    its frames read only that back from the device. The sensor is held too, so that its ``id`` is
+    made from the intrinsics in that key: a moving camera changes only ``to_world``, so its frames
+    read only that back from the device. The sensor is held too, so that its ``id`` is
     not reused while this is kept."""
 
     sensor: mi.Sensor
@@ -42,8 +42,7 @@ class _Kept:
     key: tuple | None = None
     values: list | None = None  # copies of the parameters of ``key``: they keep its indices in use
     camera: "RasterCamera | None" = None
-    intrinsics: tuple | None = None  # the key of ``projection``
-    projection: tuple | None = None  # (camera_to_sample, ppx, ppy)
+    projection: tuple | None = None  # (camera_to_sample, ppx, ppy) of ``key``'s intrinsics (its first part)
 
 
 #: per sensor (by ``id``), the oldest first
@@ -108,7 +107,7 @@ class RasterCamera:
             return kept.camera
         values = [type(v)(v) for v in live]
         camera_to_world = transform_matrix(values[-1])
-        if kept.intrinsics != intrinsics:
+        if kept.key is None or kept.key[0] != intrinsics:
             # the projection on the host (the scalar variant's: the JIT one would launch a kernel
             # and wait for it on the GPU), in float32 as Mitsuba's sensor makes it
             if orthographic:  # Mitsuba's orthographic sensor: its to_world scales the view volume
@@ -117,7 +116,7 @@ class RasterCamera:
             else:
                 x_fov, ppx, ppy = (float(v[0]) for v in values[:3])
                 projection = mi.scalar_rgb.perspective_projection(size, crop_size, crop_offset, x_fov, near, far)
-            kept.intrinsics, kept.projection = intrinsics, (transform_matrix(projection), ppx, ppy)
+            kept.projection = transform_matrix(projection), ppx, ppy
         camera_to_sample, ppx, ppy = kept.projection
         sample_to_ndc = np.array([[2.0, 0.0, 0.0, -2.0 * ppx - 1.0],
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
