@@ -258,3 +258,29 @@ def test_raster_camera_sees_parameters_changed_through_another_traversal():
     cam._CAMERAS.clear()
     assert np.allclose(zoomed.world_to_clip, cam.RasterCamera.from_sensor(sensor).world_to_clip)
     assert not np.allclose(zoomed.world_to_clip, fresh.world_to_clip)
+
+
+def test_relative_clip_is_the_shifted_projection_around_the_eye():
+    """The raster pass's matrix (``RasterCamera.relative_clip``, made once per camera and shifted
+    per sample by row operations) is the sample's shift times world → clip, with the depth row of
+    reversed-Z (or orthographic) depth, taken around the eye: in float32 the very matrix of that
+    product, for perspective and orthographic cameras far from the origin."""
+    from hybrid_integrator.raster.camera import RasterCamera
+
+    rng = np.random.default_rng(0)
+    for orthographic in (False, True):
+        for _ in range(20):
+            camera = RasterCamera(width=1280, height=720, world_to_clip=rng.normal(size=(4, 4)),
+                                  eye=rng.normal(size=3) * 10 ** rng.uniform(0, 6), near_clip=0.01, far_clip=100.0,
+                                  orthographic=orthographic, depth_row=rng.normal(size=4))
+            ox, oy = rng.random(2)
+            shift = np.eye(4)
+            shift[0, 3], shift[1, 3] = (1 - 2 * ox) / 1280, (1 - 2 * oy) / 720
+            clip = shift @ camera.world_to_clip
+            clip[2] = ((np.array([0.0, 0.0, 0.0, 100.0]) - camera.depth_row) / (100.0 - 0.01) if orthographic
+                       else (0.0, 0.0, 0.0, 0.01))
+            relative, origin = camera.relative_clip((ox, oy))
+            expected = clip.copy()
+            expected[:, 3] = clip @ np.r_[origin.astype(np.float64), 1.0]
+            assert np.array_equal(camera.clip_matrix((ox, oy)).astype(np.float32), clip.astype(np.float32))
+            assert np.array_equal(relative.astype(np.float32), expected.astype(np.float32))
