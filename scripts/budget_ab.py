@@ -11,11 +11,10 @@ drift by ~1 ms per frame between processes):
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 from pathlib import Path
 
-import numpy as np
+from budget_benchmark import PROBES, path_scene, run, summary  # scripts/ is on sys.path when a script runs
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -34,26 +33,20 @@ def main() -> None:
 
     hi.register()
     size = (1280, 720) if args.variant.startswith("cuda") else (320, 180)
-    path = Path("scenes/many_objects.xml")
-    scene = hi.load_scene(path, resx=size[0], resy=size[1])
-    cameras = hi.camera_path(json.loads(path.with_name("many_objects_path.json").read_text())["keyframes"], args.frames)
-
-    def sequence(frames=cameras, **props):
-        return hi.render_sequence(scene, frames, spp=1, layers=False, **props)
-
-    sequence(cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
-    sequence(cameras[:2], primary="raytrace")
-    runs = {"RT": sequence(primary="raytrace"), "all": sequence()}
-    budget = 0.5 * statistics.median(f.stats.times_ms["trace"] for f in runs["all"])
-    runs["50%"] = sequence(budget_ms=budget, selection="greedy")[3:]  # after the cost model's probes
+    scene, cameras = path_scene(hi, ROOT / "scenes/many_objects.xml", args.frames, resx=size[0], resy=size[1])
+    run(hi, scene, cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
+    run(hi, scene, cameras[:2], primary="raytrace")
+    runs = {"RT": run(hi, scene, cameras, primary="raytrace"), "all": run(hi, scene, cameras)}
+    budget = 0.5 * statistics.median(f["trace_ms"] for f in runs["all"])
+    runs["50%"] = run(hi, scene, cameras, budget_ms=budget, selection="greedy")
     medians = {}
     for name, frames in runs.items():
-        stats = [f.stats for f in frames]
-        medians[name] = statistics.median(s.times_ms["total"] for s in stats)
-        within = np.mean([s.times_ms["trace"] <= 1.1 * budget for s in stats]) if name == "50%" else float("nan")
-        host = {k: round(statistics.median(s.host_ms[k] for s in stats), 2) for k in stats[0].host_ms}
-        print(f"{args.label} {name:4s} frame {medians[name]:.3f} trace "
-              f"{statistics.median(s.times_ms['trace'] for s in stats):.3f} within {within:.2f} host {host}")
+        s = summary(frames, budget if name == "50%" else 0.0)  # a budgeted run after its probes
+        medians[name] = s["median_frame_ms"]
+        within = s["within_budget_plus_10"] if name == "50%" else float("nan")
+        measured = frames[PROBES:] if name == "50%" else frames
+        host = {k: round(statistics.median(f["host_ms"][k] for f in measured), 2) for k in measured[0]["host_ms"]}
+        print(f"{args.label} {name:4s} frame {medians[name]:.3f} trace {s['median_trace_ms']:.3f} within {within:.2f} host {host}")
     print(f"{args.label} RT/50% = {medians['RT'] / medians['50%']:.3f}  budget {budget:.2f} ms")
 
 

@@ -30,9 +30,17 @@ ROOT = Path(__file__).resolve().parents[1]
 PROBES = 3  # the cost model's probe frames at the start of every budgeted run (budget.py)
 
 
+def path_scene(hi, scene: Path, frames: int, **params) -> tuple:
+    """``scene`` loaded with ``params`` and ``frames`` cameras along its path (``NAME_path.json``
+    beside it: look-at keyframes)."""
+    keyframes = json.loads(scene.with_name(scene.stem + "_path.json").read_text())["keyframes"]
+    return hi.load_scene(scene, **params), hi.camera_path(keyframes, frames)
+
+
 def run(hi, scene, cameras, **props) -> list[dict]:
     frames = hi.render_sequence(scene, cameras, spp=1, layers=False, **props)
     return [{"frame": i, "trace_ms": f.stats.times_ms["trace"], "total_ms": f.stats.times_ms["total"],
+             "host_ms": f.stats.host_ms,
              "predicted_ms": f.stats.predicted_trace_ms, "pixels_traced": f.stats.pixels_traced,
              "selected": len(f.stats.selected), "visible": f.stats.candidates_visible,
              "relevance_captured": f.stats.relevance_captured, "selection_changes": f.stats.selection_changes,
@@ -68,9 +76,7 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     hi.register()
-    scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
-    keyframes = json.loads(args.scene.with_name(args.scene.stem + "_path.json").read_text())["keyframes"]
-    cameras = hi.camera_path(keyframes, args.frames)
+    scene, cameras = path_scene(hi, args.scene, args.frames, resx=args.resx, resy=args.resy)
 
     def sequence(**props):
         return run(hi, scene, cameras, **props)

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import collections
-import json
 import statistics
 import time
 from pathlib import Path
@@ -69,9 +68,10 @@ def main() -> None:
     hi.register()
     defines = dict(d.split("=", 1) for d in args.defines)
     if args.still is None:
-        path = ROOT / "scenes/many_objects.xml"
-        scene = hi.load_scene(path, resx=args.resx, resy=args.resy, **defines)
-        cameras = hi.camera_path(json.loads(path.with_name("many_objects_path.json").read_text())["keyframes"], args.frames)
+        from budget_benchmark import path_scene  # scripts/ is on sys.path when a script runs
+
+        scene, cameras = path_scene(hi, ROOT / "scenes/many_objects.xml", args.frames, resx=args.resx, resy=args.resy,
+                                    **defines)
     else:
         from hybrid_integrator.raster.camera import sensor_to_world
 
