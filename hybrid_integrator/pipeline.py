@@ -364,13 +364,13 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects, extra=2)
     n = max(static.n_objects, 1)  # then the refined pixels: proxies, silhouettes and misses
     sums.add(mi.Float(1.0), BLOCKS * n - 1 + hits.refined, hits.refined > 0)
-    clock.mark("select", selection.traced, selection.config, sums.values)
+    clock.mark("select", selection.traced, selection.config, selection.long, sums.values)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
     rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                        static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                        n_objects=static.n_objects, first_effects=static.configs,
                                        first_config=selection.config, keep_direct=bool(static.modelled),
-                                       paths=static.secondary_spp)
+                                       paths=static.secondary_spp, long=selection.long)
     full, tier = selection.traced, None
     if static.modelled:  # pixels traced without their indirect light take the learnt term for it
         modelled = mi.Bool(False)

@@ -57,6 +57,7 @@ class Selection:
 
     traced: mi.Bool  # the pixel's primary hit is ray traced
     config: mi.UInt32  # which of the effect sets its object deserves (an index into ``configs``)
+    long: mi.Bool  # its paths are expected to be long (:func:`long_paths`): the trace launches them first
 
 
 def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.Bool:
@@ -80,20 +81,36 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
     traced = mi.Bool(False)
     for k, effects in enumerate(configs):  # every set, selected or not: the same kernel every frame
         traced |= (config == k) & needs(flags, effects, has_emitters)
-    return Selection(traced=traced & valid, config=mi.UInt32(dr.maximum(config, 0)))
+    return Selection(traced=traced & valid, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags))
 
 
-def compact(mask: mi.Bool) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
+def compact(mask: mi.Bool, first: mi.Bool | None = None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
     the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
     arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
     once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
-    ``n`` back to the host to size its result. Returns (index, lane active, slot of each set lane)."""
-    flags = mi.UInt32(mask)
-    slot = dr.prefix_sum(flags)
-    last = dr.width(mask) - 1
-    n = dr.gather(mi.UInt32, slot, mi.UInt32(last)) + dr.gather(mi.UInt32, flags, mi.UInt32(last))
+    ``n`` back to the host to size its result. With ``first``, the set lanes that are also set
+    there come first (each part in order: a stable partition, one more prefix sum). Returns
+    (index, lane active, slot of each set lane)."""
+    parts = [mask] if first is None else [mask & first, mask & ~first]
+    last = mi.UInt32(dr.width(mask) - 1)
+    slot, n = mi.UInt32(0), mi.UInt32(0)
+    for part in parts:
+        flags = mi.UInt32(part)
+        within = dr.prefix_sum(flags)
+        slot = dr.select(part, n + within, slot)
+        n = n + dr.gather(mi.UInt32, within, last) + dr.gather(mi.UInt32, flags, last)
     lane = dr.arange(mi.UInt32, dr.width(mask))
     index = dr.zeros(mi.UInt32, dr.width(mask))
     dr.scatter(index, lane, slot, mask)
     return index, lane < n, slot
+
+
+#: lobes that continue a path through specular chains (mirrors, glass): its longest paths
+LONG_LOBES = mi.BSDFFlags.Delta | mi.BSDFFlags.Glossy
+
+
+def long_paths(flags: mi.UInt32) -> mi.Bool:
+    """Pixels whose primary BSDF (``flags``) has a delta or glossy lobe: their paths are the
+    frame's longest (a chain of specular bounces, no Russian roulette before ``rr_depth``)."""
+    return (flags & int(LONG_LOBES)) != 0

@@ -76,7 +76,8 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   seed: mi.UInt64, obj: mi.UInt32, n_objects: int,
                   first_effects: tuple[tuple[str, ...], ...] | None = None,
                   first_config: mi.UInt32 | None = None,
-                  keep_direct: bool = False, paths: int = 1) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
+                  keep_direct: bool = False, paths: int = 1,
+                  long: mi.Bool | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
     With ``keep_direct``, also returns the light of each path's first vertex alone (its emission
@@ -95,12 +96,23 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     of ``paths``× the lanes costs the GPU less per path than as many launches (a launch of one
     path per pixel ends in a tail of few long paths; docs/results/README.md has the measured cost
     per path). The sub-pixel position, hence antialiasing, still varies only from pass to pass
-    (and frame to frame)."""
+    (and frame to frame).
+
+    ``long`` marks the pixels whose paths are expected to be the longest (``selection.long_paths``:
+    mirrors and glass); their lanes are launched first. A GPU schedules a launch's blocks roughly
+    in lane order, and the launch lasts until its slowest block is done: long paths started last
+    leave most of the GPU idle behind them, started first they overlap the many short ones
+    (longest-first scheduling). The lane order changes no result: each pixel's random stream is
+    its own (H100, 1280×720, the default frame's trace stage: the Armadillo 6.17 → 5.53 ms, the
+    showcase 6.25 → 6.04, ``docs/results/gpu/issue10/stop27/long_first``). Only on the CUDA backend: the LLVM backend's threads take large
+    blocks of lanes each, and there pixel order spreads the long paths over the threads (the
+    Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms long paths first)."""
     n = dr.width(traced)
     width = max(n_objects, 1)
     if first_effects == ():  # no object deserves any effect: nothing can be traced
         return dr.zeros(mi.Color3f, n), None, TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
-    pixel, active, slot = compact(traced)  # only the selected pixels are traced: cost follows the selection
+    first = long if dr.backend_v(traced) == dr.JitBackend.CUDA else None
+    pixel, active, slot = compact(traced, first)  # only the selected pixels are traced: cost follows the selection
     # the lanes of the paths: ``paths`` consecutive lanes per traced pixel, so the busy lanes stay in front
     path_pixel, path_active, stream = (pixel, active, pixel) if paths == 1 else _lanes_of(pixel, active, paths)
     ray = dr.gather(mi.Ray3f, ray, path_pixel, path_active)

@@ -97,3 +97,16 @@ def test_frame_statistics_come_from_one_synchronization():
     assert t["total"] >= t["issue"] > 0
     assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "readback", "timing"}
     assert frame.stats.host_ms["replay"] > 0
+
+
+@pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])
+def test_compaction_puts_the_first_lanes_first(n, density):
+    """With ``first``, the set lanes also set in ``first`` come first, each part in pixel order (a
+    stable partition: the trace launches its long paths first)."""
+    rng = np.random.default_rng(n + 1)
+    mask, first = rng.random(n) < density, rng.random(n) < 0.4
+    index, active, slot = compact(mi.Bool(mask), mi.Bool(first))
+    expected = np.r_[np.nonzero(mask & first)[0], np.nonzero(mask & ~first)[0]]
+    assert np.array_equal(np.array(active), np.arange(n) < len(expected))
+    assert np.array_equal(np.array(index)[:len(expected)], expected)
+    assert np.array_equal(np.array(slot)[expected], np.arange(len(expected)))
