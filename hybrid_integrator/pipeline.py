@@ -205,13 +205,10 @@ def _halton(spp: int) -> tuple[tuple[float, float], ...]:
 def subpixel_offsets(spp: int, seed: int) -> list[tuple[float, float]]:
     """``spp`` sub-pixel positions in [0,1)²: the Halton sequence (low discrepancy), shifted
     modulo 1 by a random offset drawn from ``seed`` (a Cranley–Patterson rotation: each seed gives
-    another low-discrepancy set, at the cost of two random numbers, not a new scrambling). The two
-    numbers are Mitsuba's TEA hash of the seed (``sample_tea_float32``, as its samplers seed
-    themselves), on the host's scalar variant: this is a frame's first host work, before its
-    raster pass is issued, and seeding a NumPy generator for them cost ~0.1 ms there."""
-    tea = mi.scalar_rgb.sample_tea_float32
-    low, high = int(seed) & 0xFFFFFFFF, (int(seed) >> 32) & 0x7FFFFFFF
-    sx, sy = (float(tea(low, 2 * high + k)) for k in (0, 1))
+    another low-discrepancy set, at the cost of two random numbers, not a new scrambling). The sum
+    is taken in Python floats (the same values as numpy's): this is a frame's first host work,
+    before its raster pass is issued, where numpy's small arrays cost more than the sum."""
+    sx, sy = np.random.default_rng(seed).random(2).tolist()
     return [((x + sx) % 1.0, (y + sy) % 1.0) for x, y in _halton(spp)]
 
 
