@@ -55,7 +55,7 @@ from .raster.context import gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.interop import HostCopy, device_array
 from .raster.visibility import Rasterizer, TriangleTables, resolve_method
-from .selection import DEFAULT_EFFECTS, parse_effects, select_pixels
+from .selection import DEFAULT_EFFECTS, long_paths, parse_effects, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
 from .trace import RAY_KINDS, trace_effects
@@ -282,6 +282,15 @@ class PassStatic:
     #: in a box for the denoiser (temporal.py)
     film_copy: bool
     secondary_spp: int  # paths traced from each traced primary hit (trace.py)
+    #: launch the glass pixels' paths first (``trace.trace_effects``' ``long``): on the CUDA backend,
+    #: where a candidate's BSDF refracts. H100, 1280×720, the default frame's trace stage: the
+    #: Armadillo 6.12-6.18 → 5.52-5.57 ms, the showcase 6.05-6.13 → 6.02-6.05; where glass is a
+    #: candidate but hardly traced, the partition's second prefix sum costs ~0.05 ms (226 objects,
+    #: 50 % budget: 1.81-1.82 → 1.88-1.89 ms for the same rays; docs/results/gpu/issue10/stop27).
+    #: Not on the LLVM backend, whose threads take large blocks of lanes each: pixel order spreads
+    #: the long paths over them (the Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms
+    #: long paths first)
+    long_first: bool = False
 
 
 @dataclass
@@ -364,13 +373,14 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects, extra=2)
     n = max(static.n_objects, 1)  # then the refined pixels: proxies, silhouettes and misses
     sums.add(mi.Float(1.0), BLOCKS * n - 1 + hits.refined, hits.refined > 0)
-    clock.mark("select", selection.traced, selection.config, selection.long, sums.values)
+    long = selection.long if static.long_first else None
+    clock.mark("select", selection.traced, selection.config, long, sums.values)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
     rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
                                        static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
                                        n_objects=static.n_objects, first_effects=static.configs,
                                        first_config=selection.config, keep_direct=bool(static.modelled),
-                                       paths=static.secondary_spp, long=selection.long)
+                                       paths=static.secondary_spp, long=long)
     full, tier = selection.traced, None
     if static.modelled:  # pixels traced without their indirect light take the learnt term for it
         modelled = mi.Bool(False)
@@ -585,6 +595,9 @@ class HybridRenderer:
         configs = tuple(sorted({a for a in active if a} | ({SHADOW_ONLY} if tiers.any() else set())))
         modelled = tuple(k for k, c in enumerate(configs) if "indirect" not in c) if "indirect" in settings.effects else ()
         film = sensor.film()
+        candidates = [self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a]
+        long_first = mi.variant().startswith("cuda") and any(
+            b is not None and long_paths(int(b.flags())) for b in candidates)
         static = PassStatic(
             width=camera.width, height=camera.height, primary=settings.primary, effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
@@ -596,7 +609,7 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled,
             film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
-            secondary_spp=settings.secondary_spp)
+            secondary_spp=settings.secondary_spp, long_first=long_first)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
 

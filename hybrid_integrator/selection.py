@@ -57,7 +57,7 @@ class Selection:
 
     traced: mi.Bool  # the pixel's primary hit is ray traced
     config: mi.UInt32  # which of the effect sets its object deserves (an index into ``configs``)
-    long: mi.Bool  # its paths are expected to be long (:func:`long_paths`): the trace launches them first
+    long: mi.Bool  # its paths are expected to be long (:func:`long_paths`): the trace may launch them first
 
 
 def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.Bool:
@@ -106,11 +106,12 @@ def compact(mask: mi.Bool, first: mi.Bool | None = None) -> tuple[mi.UInt32, mi.
     return index, lane < n, slot
 
 
-#: lobes that continue a path through specular chains (mirrors, glass): its longest paths
-LONG_LOBES = mi.BSDFFlags.Delta | mi.BSDFFlags.Glossy
+#: lobes whose paths are the frame's longest: a refracted path crosses at least two interfaces of
+#: its object, and total internal reflection adds more (glass, rough glass)
+LONG_LOBES = mi.BSDFFlags.DeltaTransmission | mi.BSDFFlags.GlossyTransmission
 
 
-def long_paths(flags: mi.UInt32) -> mi.Bool:
-    """Pixels whose primary BSDF (``flags``) has a delta or glossy lobe: their paths are the
-    frame's longest (a chain of specular bounces, no Russian roulette before ``rr_depth``)."""
+def long_paths(flags) -> mi.Bool | bool:
+    """Pixels (or, for a Python int, a BSDF) whose primary BSDF ``flags`` have a lobe of
+    ``LONG_LOBES``."""
     return (flags & int(LONG_LOBES)) != 0

@@ -99,20 +99,17 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     (and frame to frame).
 
     ``long`` marks the pixels whose paths are expected to be the longest (``selection.long_paths``:
-    mirrors and glass); their lanes are launched first. A GPU schedules a launch's blocks roughly
-    in lane order, and the launch lasts until its slowest block is done: long paths started last
-    leave most of the GPU idle behind them, started first they overlap the many short ones
+    glass); their lanes are launched first. A GPU schedules a launch's blocks roughly in lane
+    order, and the launch lasts until its slowest block is done: long paths started last leave
+    most of the GPU idle behind them, started first they overlap the many short ones
     (longest-first scheduling). The lane order changes no result: each pixel's random stream is
-    its own (H100, 1280×720, the default frame's trace stage: the Armadillo 6.17 → 5.53 ms, the
-    showcase 6.25 → 6.04, ``docs/results/gpu/issue10/stop27/long_first``). Only on the CUDA backend: the LLVM backend's threads take large
-    blocks of lanes each, and there pixel order spreads the long paths over the threads (the
-    Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms long paths first)."""
+    its own. The device pass asks for it on the CUDA backend where a candidate is glass
+    (``pipeline.PassStatic.long_first``)."""
     n = dr.width(traced)
     width = max(n_objects, 1)
     if first_effects == ():  # no object deserves any effect: nothing can be traced
         return dr.zeros(mi.Color3f, n), None, TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
-    first = long if dr.backend_v(traced) == dr.JitBackend.CUDA else None
-    pixel, active, slot = compact(traced, first)  # only the selected pixels are traced: cost follows the selection
+    pixel, active, slot = compact(traced, long)  # only the selected pixels are traced: cost follows the selection
     # the lanes of the paths: ``paths`` consecutive lanes per traced pixel, so the busy lanes stay in front
     path_pixel, path_active, stream = (pixel, active, pixel) if paths == 1 else _lanes_of(pixel, active, paths)
     ray = dr.gather(mi.Ray3f, ray, path_pixel, path_active)

@@ -2,7 +2,8 @@
 
 On the 226-object camera path: the RT baseline, every candidate traced, then greedy at 50 % of the
 all-candidates trace time; prints each run's median frame and trace time, the fraction of budgeted
-frames within budget + 10 %, the median host time by phase, and RT baseline / 50 % frame. Run it
+frames within budget + 10 %, the median pixels and secondary rays traced, the median host time by
+phase, and RT baseline / 50 % frame. Run it
 from each version's checkout in turn, several times, alternating (hosts of the lent GPU machines
 drift by ~1 ms per frame between processes):
 
@@ -46,7 +47,9 @@ def main() -> None:
         within = s["within_budget_plus_10"] if name == "50%" else float("nan")
         measured = frames[PROBES:] if name == "50%" else frames
         host = {k: round(statistics.median(f["host_ms"][k] for f in measured), 2) for k in measured[0]["host_ms"]}
-        print(f"{args.label} {name:4s} frame {medians[name]:.3f} trace {s['median_trace_ms']:.3f} within {within:.2f} host {host}")
+        traced = {k: int(statistics.median(f[k] for f in measured)) for k in ("pixels_traced", "secondary_rays")}
+        print(f"{args.label} {name:4s} frame {medians[name]:.3f} trace {s['median_trace_ms']:.3f} within {within:.2f} "
+              f"{traced} host {host}")
     print(f"{args.label} RT/50% = {medians['RT'] / medians['50%']:.3f}  budget {budget:.2f} ms")
 
 

@@ -1,0 +1,70 @@
+"""What a frozen function's replay walks: every shape alive in the process (issue 10, item 3).
+
+A trace call's fixed wall time is mostly Dr.Jit 1.5's frozen-function replay walking its inputs
+before it launches anything (``scripts/trace_overhead.py``: a frozen ``lambda scene, x: x + 1``
+replays in ~0.6-0.7 ms on the H100's host for the 18-shape many-object scene, 0.02 ms without the
+scene). This probe shows what that walk covers: the replay of the same frozen function on a scene
+of one sphere, while N more objects of one kind are alive in the process but in no scene. Extra
+shapes (with their BSDFs) lengthen every replay, ~10 µs each on this machine's CPU (200 spheres:
+0.03 → 1.94 ms); 200 BSDFs, emitters, sensors, textures or integrators alone add at most ~0.05 ms.
+So the walk follows Dr.Jit's registry of live shapes, whichever scene holds them, and only fewer
+live shapes (``objects.batch_by_material``) shorten it (docs/results/cpu/frozen_walk.txt).
+
+    python scripts/frozen_walk.py -o docs/results/cpu/frozen_walk.txt
+"""
+from __future__ import annotations
+
+import argparse
+import gc
+import statistics
+import time
+from pathlib import Path
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--variant", default="llvm_ad_rgb")
+    parser.add_argument("--count", type=int, default=200, help="extra objects of each kind")
+    parser.add_argument("--repeats", type=int, default=301)
+    parser.add_argument("-o", "--output", type=Path, default=None)
+    args = parser.parse_args()
+
+    import drjit as dr
+    import mitsuba as mi
+
+    mi.set_variant(args.variant)
+
+    def replay_ms(fn) -> float:
+        fn(), fn()  # records, then may record again with its literals made opaque
+        times = []
+        for _ in range(args.repeats):
+            start = time.perf_counter()
+            dr.eval(fn())
+            dr.sync_thread()
+            times.append((time.perf_counter() - start) * 1e3)
+        return statistics.median(times)
+
+    x = dr.arange(mi.Float, 10)
+    frozen = dr.freeze(lambda scene, x: x + 1)
+    scene = mi.load_dict({"type": "scene", "s": {"type": "sphere"}})
+    kinds = {"sphere (shape + its BSDF)": {"type": "sphere"}, "diffuse BSDF": {"type": "diffuse"},
+             "point emitter": {"type": "point"}, "perspective sensor": {"type": "perspective"},
+             "checkerboard texture": {"type": "checkerboard"}, "path integrator": {"type": "path"}}
+    lines = [f"{args.variant}: median replay of a frozen `lambda scene, x: x + 1` on a one-sphere scene, "
+             f"{args.repeats} calls, one sync each",
+             f"nothing else alive: {replay_ms(lambda: frozen(scene, x)):.3f} ms"]
+    for name, spec in kinds.items():
+        extra = [mi.load_dict(spec) for _ in range(args.count)]
+        lines.append(f"+{args.count} {name} alive (in no scene): {replay_ms(lambda: frozen(scene, x)):.3f} ms")
+        del extra
+        gc.collect()
+    lines.append(f"all freed again: {replay_ms(lambda: frozen(scene, x)):.3f} ms")
+    text = "\n".join(lines)
+    print(text)
+    if args.output:
+        args.output.parent.mkdir(parents=True, exist_ok=True)
+        args.output.write_text(f"python scripts/frozen_walk.py --variant {args.variant} --count {args.count}\n{text}\n")
+
+
+if __name__ == "__main__":
+    main()
