@@ -55,7 +55,7 @@ from .raster.context import gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.interop import HostCopy, device_array
 from .raster.visibility import Rasterizer, TriangleTables, resolve_method
-from .selection import DEFAULT_EFFECTS, long_paths, parse_effects, select_pixels
+from .selection import DEFAULT_EFFECTS, parse_effects, refracts, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
 from .trace import RAY_KINDS, trace_effects
@@ -595,9 +595,7 @@ class HybridRenderer:
         configs = tuple(sorted({a for a in active if a} | ({SHADOW_ONLY} if tiers.any() else set())))
         modelled = tuple(k for k, c in enumerate(configs) if "indirect" not in c) if "indirect" in settings.effects else ()
         film = sensor.film()
-        candidates = [self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a]
-        long_first = mi.variant().startswith("cuda") and any(
-            b is not None and long_paths(int(b.flags())) for b in candidates)
+        glass = refracts(self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a)
         static = PassStatic(
             width=camera.width, height=camera.height, primary=settings.primary, effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
@@ -609,7 +607,7 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled,
             film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
-            secondary_spp=settings.secondary_spp, long_first=long_first)
+            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"))
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
 

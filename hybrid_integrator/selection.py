@@ -111,7 +111,12 @@ def compact(mask: mi.Bool, first: mi.Bool | None = None) -> tuple[mi.UInt32, mi.
 LONG_LOBES = mi.BSDFFlags.DeltaTransmission | mi.BSDFFlags.GlossyTransmission
 
 
-def long_paths(flags) -> mi.Bool | bool:
-    """Pixels (or, for a Python int, a BSDF) whose primary BSDF ``flags`` have a lobe of
-    ``LONG_LOBES``."""
+def long_paths(flags: mi.UInt32) -> mi.Bool:
+    """Pixels whose primary BSDF ``flags`` have a lobe of ``LONG_LOBES``."""
     return (flags & int(LONG_LOBES)) != 0
+
+
+def refracts(bsdfs) -> bool:
+    """Whether one of ``bsdfs`` (Mitsuba BSDFs; None: a shape without one) has a lobe of
+    ``LONG_LOBES``: then some traced pixels may have the frame's longest paths."""
+    return any(b is not None and int(b.flags()) & int(LONG_LOBES) != 0 for b in bsdfs)

@@ -110,3 +110,16 @@ def test_compaction_puts_the_first_lanes_first(n, density):
     assert np.array_equal(np.array(active), np.arange(n) < len(expected))
     assert np.array_equal(np.array(index)[:len(expected)], expected)
     assert np.array_equal(np.array(slot)[expected], np.arange(len(expected)))
+
+
+def test_glass_is_what_the_trace_launches_first():
+    """The device pass partitions its traced pixels (glass first) where a candidate refracts:
+    dielectrics, rough or smooth; not thin glass (a null lobe: its paths pass straight through),
+    diffuse, conductors or plastic."""
+    from hybrid_integrator.selection import refracts
+
+    bsdf = lambda kind: mi.load_dict({"type": kind})  # noqa: E731
+    for kind in ("dielectric", "roughdielectric"):
+        assert refracts([bsdf("diffuse"), bsdf(kind)]), kind
+    assert not refracts([bsdf("thindielectric"), bsdf("diffuse"), bsdf("conductor"), bsdf("roughplastic"), None])
+    assert not refracts([])
