@@ -111,12 +111,13 @@ def compact(mask: mi.Bool, first: mi.Bool | None = None) -> tuple[mi.UInt32, mi.
 LONG_LOBES = mi.BSDFFlags.DeltaTransmission | mi.BSDFFlags.GlossyTransmission
 
 
-def long_paths(flags: mi.UInt32) -> mi.Bool:
-    """Pixels whose primary BSDF ``flags`` have a lobe of ``LONG_LOBES``."""
+def long_paths(flags):
+    """Pixels whose primary BSDF ``flags`` (``mi.UInt32``, or one BSDF's as an int) have a lobe of
+    ``LONG_LOBES``."""
     return (flags & int(LONG_LOBES)) != 0
 
 
 def refracts(bsdfs) -> bool:
     """Whether one of ``bsdfs`` (Mitsuba BSDFs; None: a shape without one) has a lobe of
     ``LONG_LOBES``: then some traced pixels may have the frame's longest paths."""
-    return any(b is not None and int(b.flags()) & int(LONG_LOBES) != 0 for b in bsdfs)
+    return any(b is not None and long_paths(int(b.flags())) for b in bsdfs)

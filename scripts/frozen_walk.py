@@ -6,7 +6,8 @@ replays in ~0.6-0.7 ms on the H100's host for the 18-shape many-object scene, 0.
 scene). This probe shows what that walk covers: the replay of the same frozen function on a scene
 of one sphere, while N more objects of one kind are alive in the process but in no scene. Extra
 shapes (with their BSDFs) lengthen every replay, ~10 µs each on this machine's CPU (200 spheres:
-0.03 → 1.94 ms); 200 BSDFs, emitters, sensors, textures or integrators alone add at most ~0.05 ms.
+0.02 → 2.04 ms); 200 BSDFs, emitters, sensors, textures or integrators alone leave it at 0.08–0.12
+ms, about where it stays once the spheres are freed again (0.11 ms).
 So the walk follows Dr.Jit's registry of live shapes, whichever scene holds them, and only fewer
 live shapes (``objects.batch_by_material``) shorten it (docs/results/cpu/frozen_walk.txt).
 
@@ -16,9 +17,9 @@ from __future__ import annotations
 
 import argparse
 import gc
-import statistics
-import time
 from pathlib import Path
+
+from trace_overhead import timed  # scripts/ is on sys.path when a script runs
 
 
 def main() -> None:
@@ -35,14 +36,7 @@ def main() -> None:
     mi.set_variant(args.variant)
 
     def replay_ms(fn) -> float:
-        fn(), fn()  # records, then may record again with its literals made opaque
-        times = []
-        for _ in range(args.repeats):
-            start = time.perf_counter()
-            dr.eval(fn())
-            dr.sync_thread()
-            times.append((time.perf_counter() - start) * 1e3)
-        return statistics.median(times)
+        return timed(fn, args.repeats)[0]  # the median wall time, one synchronization per call
 
     x = dr.arange(mi.Float, 10)
     frozen = dr.freeze(lambda scene, x: x + 1)

@@ -1,4 +1,13 @@
-"""Experiment: does the order of the trace's lanes change its device time? (long paths first)"""
+"""Experiment: does the order of the trace's lanes change its device time? (long paths first)
+
+Stand-alone trace_effects on camera-ray primaries, with the compaction in pixel order, with the
+pixels of delta or glossy BSDFs first, and with them last (``trace_effects``' ``long``; the runs
+of ab.txt patched in an inline copy of that partition before it was folded into the trace). Usage, from the
+repository root (GPU: on the device with $S from scripts/gpu_scenes.sh):
+
+    python .../lane_order.py llvm_ad_rgb scenes/armadillo_glass.xml resx=320 resy=180 models_dir=../shared/scenes/models
+    python3 .../lane_order.py cuda_ad_rgb scenes/SCENE.xml resx=1280 resy=720 models_dir=$S/models showcase_dir=$S/cbox sponza_dir=$S/sponza-dabrovic
+"""
 import statistics, sys, time, json
 import drjit as dr, mitsuba as mi
 mi.set_variant(sys.argv[1])
@@ -7,7 +16,6 @@ from hybrid_integrator import trace as T
 from hybrid_integrator.bench import load_bench_scene
 from hybrid_integrator.api import rasterizer
 from hybrid_integrator.primary import camera_rays, traced_hits
-from hybrid_integrator.selection import compact as plain_compact
 
 defines = dict(d.split("=", 1) for d in sys.argv[3:])
 scene, name = load_bench_scene(sys.argv[2], defines)
@@ -20,32 +28,16 @@ long = hits.valid & ((flags & int(mi.BSDFFlags.Delta | mi.BSDFFlags.Glossy)) != 
 dr.eval(hits.ray, hits.si, hits.valid, hits.object, long)
 print(name, "pixels", dr.count(hits.valid)[0], "long", dr.count(long)[0], flush=True)
 
-def ordered(first):
-    def compact(mask):
-        a, b = mask & first, mask & ~first
-        fa, fb = mi.UInt32(a), mi.UInt32(b)
-        sa, sb = dr.prefix_sum(fa), dr.prefix_sum(fb)
-        last = mi.UInt32(dr.width(mask) - 1)
-        na = dr.gather(mi.UInt32, sa, last) + dr.gather(mi.UInt32, fa, last)
-        nb = dr.gather(mi.UInt32, sb, last) + dr.gather(mi.UInt32, fb, last)
-        slot = dr.select(a, sa, na + sb)
-        lane = dr.arange(mi.UInt32, dr.width(mask))
-        index = dr.zeros(mi.UInt32, dr.width(mask))
-        dr.scatter(index, lane, slot, mask)
-        return index, lane < na + nb, slot
-    return compact
-
-variants = {"pixel order": plain_compact, "long first": ordered(long), "short first": ordered(~long)}
+variants = {"pixel order": None, "long first": long, "short first": ~long}  # trace_effects' ``long``
 effects = hi.selection.EFFECTS
 seed = dr.opaque(mi.UInt64, 1)
 results = {}
 for rnd in range(2):
-    for label, comp in variants.items():
-        T.compact = comp
+    for label, first in variants.items():
         def run(k):
             s = dr.opaque(mi.UInt64, k)
             rt, _, counts = T.trace_effects(scene, hits.ray, hits.si, hits.valid, effects, 8 if "armadillo" in name else -1, 5, False,
-                                            seed=s, obj=hits.object, n_objects=n_objects)
+                                            seed=s, obj=hits.object, n_objects=n_objects, long=first)
             return rt, counts.per_object
         dr.eval(run(0)); dr.sync_thread()
         dev, wall = [], []
