@@ -291,9 +291,6 @@ class PassStatic:
     #: the long paths over them (the Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms
     #: long paths first)
     long_first: bool = False
-    #: trace the refined primary pixels (silhouettes, proxies) in a launch of their own, compacted
-    #: (``primary.refined_hits``), not masked in the kernel of every pixel: on the CUDA backend
-    compact_refine: bool = False
 
 
 @dataclass
@@ -357,7 +354,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     ray = camera_rays(sensor, w, h, offset)
     # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8)
     if static.primary == "raster":
-        hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables, compacted=static.compact_refine)
+        hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables)
     else:
         hits = traced_hits(scene, ray, data.tables)
     clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
@@ -610,8 +607,7 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled,
             film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
-            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"),
-            compact_refine=mi.variant().startswith("cuda"))
+            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"))
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
 

@@ -36,7 +36,6 @@ import numpy as np
 from .cache import scene_state
 from .objects import object_indices
 from .raster.visibility import TriangleTables
-from .selection import compact
 
 #: how far outside its raster triangle (in barycentric units) a camera ray may pass before the
 #: pixel is re-traced
@@ -149,11 +148,9 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
 
 
 def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                 tables: TriangleTables, compacted: bool = False) -> PrimaryHits:
+                 tables: TriangleTables) -> PrimaryHits:
     """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
-    ``ray`` of a ``width`` × ``height`` frame. ``compacted``: the refined pixels' rays are traced
-    on the first lanes of their own launch (:func:`refined_hits`), not masked in the kernel of
-    every pixel (the same hits)."""
+    ``ray`` of a ``width`` × ``height`` frame."""
     record = resolve(triangle_id, ray, tables)
     proxy = record.proxy
     edge = (silhouettes(dr.select(record.hit, record.object + 1, 0), width, height)
@@ -168,7 +165,7 @@ def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: 
     pi.shape_index = record.shape
     pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), record.shape, raster_hit)
     pi.valid = raster_hit
-    traced = refined_hits(scene, ray, refine) if compacted else scene.ray_intersect_preliminary(ray, False, refine)
+    traced = scene.ray_intersect_preliminary(ray, False, refine)
     pi = dr.select(refine, traced, pi)
     valid = pi.is_valid()
     shape = dr.select(refine, shape_indices(tables.pointer_shape, pi.shape, valid), record.shape)
@@ -177,19 +174,6 @@ def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: 
     si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
     refined = dr.select(proxy, 1, dr.select(edge, 2, 0))
     return PrimaryHits(ray=ray, si=si, shape=shape, object=obj, valid=valid, refined=mi.UInt32(refined))
-
-
-def refined_hits(scene: mi.Scene, ray: mi.Ray3f, refine: mi.Bool) -> mi.PreliminaryIntersection3f:
-    """The preliminary intersections of the ``refine`` lanes' rays (the others: invalid), traced on
-    the first lanes of one launch (``selection.compact``) and gathered back to their pixels.
-
-    Refined pixels are few (1-5 % at 1280×720 on the bench scenes) but lie along every outline, so
-    masked in the kernel of every pixel they make a third to a half of its warps trace a ray; after
-    compaction a few warps trace and the rest of that kernel makes no ray-tracing call at all."""
-    index, active, slot = compact(refine)
-    traced = scene.ray_intersect_preliminary(dr.gather(mi.Ray3f, ray, index, active), False, active)
-    dr.eval(traced)  # the launch of the refined rays alone
-    return dr.gather(mi.PreliminaryIntersection3f, traced, slot, refine)
 
 
 def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> PrimaryHits:

@@ -3,7 +3,8 @@
 Wraps the renderer's own methods, the raster pass's parts and the heuristic's functions in one
 process (no copy of their code) with ``time.perf_counter`` and renders the 226-object camera path
 (``scenes/many_objects.xml`` and its ``_path.json``), or with ``--still`` a scene's own view,
-twice: with every candidate traced, and with a budget. Prints per run the frame's median
+twice: with every candidate traced, and with a budget (``--budget 0``: once), with the raster's
+primary hits or (``--primary raytrace``) the RT baseline's camera rays. Prints per run the frame's median
 ``FrameStats.host_ms`` by phase, then per wrapped function its median time per call and its mean
 time per frame: where the host's share of a frame goes, function by function.
 
@@ -30,6 +31,8 @@ def main() -> None:
     parser.add_argument("--budget", type=float, default=2.47, help="the budgeted run's budget_ms")
     parser.add_argument("--still", type=Path, default=None, metavar="SCENE",
                         help="render SCENE's own view (still), not the 226 objects' camera path")
+    parser.add_argument("--primary", default="raster", choices=("raster", "raytrace"),
+                        help="the primary hits: the raster's, or camera rays (the RT baseline)")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     args = parser.parse_args()
 
@@ -79,17 +82,18 @@ def main() -> None:
 
         scene, _ = load_bench_scene(str(args.still), {"resx": args.resx, "resy": args.resy, **defines})
         cameras = [sensor_to_world(scene.sensors()[0])] * args.frames
-    for budget_ms in (0.0, args.budget):
-        hi.render_sequence(scene, cameras[:3], spp=1, layers=False, budget_ms=budget_ms)  # warm-up
+    for budget_ms in dict.fromkeys((0.0, args.budget)):  # --budget 0: the default frame alone
+        props = dict(spp=1, layers=False, budget_ms=budget_ms, primary=args.primary)
+        hi.render_sequence(scene, cameras[:3], **props)  # warm-up
         times.clear()
-        frames = hi.render_sequence(scene, cameras, spp=1, layers=False, budget_ms=budget_ms)[3:]
+        frames = hi.render_sequence(scene, cameras, **props)[3:]
         stats = [f.stats for f in frames]
         print(f"budget_ms={budget_ms}: frame {statistics.median(s.times_ms['total'] for s in stats):.3f} ms, "
               f"trace {statistics.median(s.times_ms['trace'] for s in stats):.3f} ms")
         print("  host_ms", {k: round(statistics.median(s.host_ms[k] for s in stats), 3) for k in stats[0].host_ms})
         for name, values in times.items():
             print(f"  {name:32s} n={len(values):3d}  median {statistics.median(values):.3f} ms per call, "
-                  f"{sum(values) / len(frames):.3f} ms per frame")
+                  f"{sum(values) / len(cameras):.3f} ms per frame")  # the wrapped calls of every frame
 
 
 if __name__ == "__main__":

@@ -1,18 +1,17 @@
 """What the primary stage's Dr.Jit kernels cost: the raster's hits against camera rays (issue 10).
 
-For each scene, one visibility buffer is drawn once; then three frozen functions of the scene and
+For each scene, one visibility buffer is drawn once; then two frozen functions of the scene and
 that buffer are timed, each a hit per pixel with its surface interaction (what stage 1 hands to
 the lighting):
 
-- ``masked``: ``primary.primary_hits`` with the refined pixels' rays (silhouettes, proxies) traced
-  in the kernel of every pixel, masked;
-- ``compacted``: the same with those rays compacted into a launch of their own
-  (``primary.refined_hits``);
+- ``raster``: ``primary.primary_hits``, the raster's triangles intersected with the pixels' camera
+  rays, the refined pixels' rays (silhouettes, proxies) traced in the same kernel, masked;
 - ``camera rays``: ``primary.traced_hits``, every pixel's camera ray traced (the RT baseline).
 
 Per function: the median device time of its kernels (Dr.Jit's kernel history, CUDA events on the
-GPU) and the median wall time of a call synchronized once, over ``--repeats`` calls, the three
-taken in turn. The hits of ``masked`` and ``compacted`` are compared bit for bit.
+GPU) and the median wall time of a call synchronized once, over ``--repeats`` calls, taken in
+turn. (Stop 28 also timed the refined rays compacted into a launch of their own, commit df7581b:
+slower on four of five scenes, docs/results/gpu/issue10/stop28/primary_stage_compacted.txt.)
 
     python scripts/primary_stage.py scenes/showcase.xml -D showcase_dir=../shared/scenes/cbox
     python3 scripts/primary_stage.py --variant cuda_ad_rgb scenes/*.xml $D -o $OUT/primary_stage.txt
@@ -56,19 +55,16 @@ def main() -> None:
         ids = raster.device_ids(raster.render(camera, (0.5, 0.5), "auto"))
         tables = raster.tables
 
-        def hits_of(scene, sensor, ids, tables, compacted):
-            hits = primary_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), ids, w, h, tables, compacted=compacted)
+        def hits_of(scene, sensor, ids, tables):
+            hits = primary_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), ids, w, h, tables)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid, hits.refined
 
         def rays_of(scene, sensor, tables):
             hits = traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid
 
-        runs = {"masked": (dr.freeze(lambda s, c, i, t: hits_of(s, c, i, t, False)), (scene, sensor, ids, tables)),
-                "compacted": (dr.freeze(lambda s, c, i, t: hits_of(s, c, i, t, True)), (scene, sensor, ids, tables)),
+        runs = {"raster": (dr.freeze(hits_of), (scene, sensor, ids, tables)),
                 "camera rays": (dr.freeze(rays_of), (scene, sensor, tables))}
-        same = all(np.array_equal(np.array(a), np.array(b), equal_nan=True)
-                   for a, b in zip(runs["masked"][0](*runs["masked"][1]), runs["compacted"][0](*runs["compacted"][1])))
         wall: dict[str, list[float]] = {k: [] for k in runs}
         device: dict[str, list[float]] = {k: [] for k in runs}
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
@@ -84,9 +80,8 @@ def main() -> None:
                     dr.sync_thread()
                     wall[k].append((time.perf_counter() - start) * 1e3)
                     device[k].append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
-        refined = int(np.count_nonzero(np.array(runs["masked"][0](*runs["masked"][1])[-1])))
-        lines.append(f"{name} ({w}×{h}, {refined} refined pixels, {refined / (w * h):.1%}; masked = compacted "
-                     f"bit for bit: {same})")
+        refined = int(np.count_nonzero(np.array(runs["raster"][0](*runs["raster"][1])[-1])))
+        lines.append(f"{name} ({w}×{h}, {refined} refined pixels, {refined / (w * h):.1%})")
         for k in runs:
             lines.append(f"  {k:12s} device {statistics.median(device[k]):.3f} ms, wall {statistics.median(wall[k]):.3f} ms")
     text = "\n".join(lines)

@@ -10,8 +10,7 @@ import numpy as np
 import hybrid_integrator as hi
 from hybrid_integrator.cli import main as cli
 from hybrid_integrator.io import read_exr
-from hybrid_integrator.api import rasterizer
-from hybrid_integrator.primary import camera_rays, primary_hits, silhouettes
+from hybrid_integrator.primary import camera_rays, silhouettes
 from hybrid_integrator.raster.camera import RasterCamera
 from conftest import DEFAULT_SCENE, SHARED_SCENES, load
 
@@ -43,28 +42,6 @@ def test_analytic_spheres_are_flagged_as_proxies():
         on = exact & (np.array(pi.shape_index).reshape(exact.shape) == index)
         r = np.linalg.norm(gb.position[on] - centre, axis=1)
         assert np.allclose(r, radius, rtol=1e-4)
-
-
-def test_refined_pixels_traced_compacted_are_the_masked_hits():
-    """The CUDA variants trace the refined pixels (proxies, silhouettes) in a launch of their own
-    (``primary.refined_hits``): the same interactions, bit for bit, as masked in every pixel's kernel."""
-    for path, size in ((SHARED_SCENES / "cbox/cbox_spheres_analytic.xml", dict(res=128)),
-                       (SHARED_SCENES / "cbox/showcase_coloured_glass.xml", dict(resx=160, resy=120))):
-        scene = load(path, **size)
-        sensor = scene.sensors()[0]
-        camera = RasterCamera.from_sensor(sensor)
-        w, h = camera.width, camera.height
-        raster = rasterizer(scene)
-        ids = raster.device_ids(raster.render(camera, (0.3, 0.7), "auto"))
-        ray = camera_rays(sensor, w, h, (0.3, 0.7))
-        masked, compacted = (primary_hits(scene, ray, ids, w, h, raster.tables, compacted=c) for c in (False, True))
-        refined = np.array(masked.refined) > 0
-        assert 100 < refined.sum() < 0.5 * w * h
-        for name in ("t", "p", "n", "uv", "wi", "prim_index"):
-            a, b = np.array(getattr(masked.si, name)), np.array(getattr(compacted.si, name))
-            assert np.array_equal(a, b, equal_nan=True), name
-        for name in ("shape", "object", "valid", "refined"):
-            assert np.array_equal(np.array(getattr(masked, name)), np.array(getattr(compacted, name))), name
 
 
 def test_aovs_match_mitsuba_materials():
