@@ -91,6 +91,28 @@ def test_compute_pass_is_the_draw_but_for_ties():
     assert np.abs(results["draw"].image - results["compute"].image).max(axis=-1).mean() < 1e-3
 
 
+def test_compute_passes_of_two_scenes_and_sizes_take_turns():
+    """A compute pass binds its buffers and target only when its film size changes or another
+    pass bound its own (``raster/compute.py``): passes of two scenes at two sizes, in turn, each
+    give what they gave alone."""
+    from hybrid_integrator.raster.camera import RasterCamera
+
+    scenes = [load(SCENES["sponza"], resx=96, resy=54), load(DEFAULT_SCENE, resx=64, resy=48)]
+    cameras = [RasterCamera.from_sensor(s.sensors()[0]) for s in scenes]
+    small = make_sensor(scenes[0], 48, 40, "x", (0.0, 0.0))
+
+    def ids(k, camera):
+        raster = hi.rasterizer(scenes[k])
+        return raster.read_ids(raster.render(camera, (0.3, 0.6), "compute")).copy()
+
+    alone = [ids(0, cameras[0]), ids(1, cameras[1]), ids(0, RasterCamera.from_sensor(small))]
+    turns = [ids(1, cameras[1]), ids(0, cameras[0]), ids(0, RasterCamera.from_sensor(small)), ids(0, cameras[0]),
+             ids(1, cameras[1])]
+    for got, expected in zip(turns, [alone[1], alone[0], alone[2], alone[0], alone[1]]):
+        assert got.shape == expected.shape and np.array_equal(got, expected)
+    assert all((a > 0).mean() > 0.3 for a in alone)
+
+
 @pytest.mark.parametrize("fov_axis", ["smaller", "larger", "diagonal"])
 def test_fov_axis_conventions(fov_axis):
     scene = load(DEFAULT_SCENE)

@@ -18,6 +18,8 @@ numbers of both; the tiles of the large ones. The geometry is the draw's, upload
 """
 from __future__ import annotations
 
+import weakref
+
 import moderngl
 import numpy as np
 
@@ -35,6 +37,9 @@ MAX_GROUPS = 65535
 #: the shader's stages (``visibility.comp``), numbered in the order they run
 CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES = range(7)
 _MEDIUM_GROUPS_OFFSET = 8  # bytes into the counts buffer: the indirect dispatch of the medium triangles
+#: per GL context, the :class:`ComputeVisibility` whose buffers and target are bound to its
+#: storage-buffer and image units (nothing else in the package binds them)
+_BOUND: dict[int, "weakref.ref[ComputeVisibility]"] = {}
 
 
 def _grid(invocations: int) -> tuple[int, int, int]:
@@ -60,6 +65,7 @@ class ComputeVisibility:
             ctx.buffer(reserve=4 * max(self.triangles, 1)),  # the medium triangles' numbers
         ]
         self._targets: dict[tuple[int, int], tuple[moderngl.Buffer, moderngl.Buffer]] = {}
+        self._size = None  # the film size the program's uniforms and the context's bindings are set for
 
     def _target(self, width: int, height: int) -> tuple[moderngl.Buffer, moderngl.Buffer]:
         key = (width, height)
@@ -88,16 +94,21 @@ class ComputeVisibility:
     def render(self, camera: RasterCamera, offset: tuple[float, float], fbo: moderngl.Framebuffer) -> moderngl.Framebuffer:
         """The visibility pass at ``offset`` into ``fbo``, the draw's target of the camera's size."""
         w, h = camera.width, camera.height
-        self._storage[2:4] = self._target(w, h)
         program = self.program
         clip, origin = camera.relative_clip(offset)
         program["world_to_clip"].write(clip.T.astype("f4").tobytes())
         program["origin"].write(origin.tobytes())
-        program["size"].value = (w, h)
-        program["triangles"].value = self.triangles
-        for binding, buffer in enumerate(self._storage):
-            buffer.bind_to_storage_buffer(binding)
-        fbo.color_attachments[0].bind_to_image(0, read=False, write=True)
+        # the size, the buffers and the target change with the film's size alone: set again only
+        # then, or after another pass bound its own (the bindings are the context's state)
+        bound = _BOUND.get(id(self.ctx))
+        if self._size != (w, h) or bound is None or bound() is not self:
+            self._storage[2:4] = self._target(w, h)
+            program["size"].value = (w, h)
+            program["triangles"].value = self.triangles
+            for binding, buffer in enumerate(self._storage):
+                buffer.bind_to_storage_buffer(binding)
+            fbo.color_attachments[0].bind_to_image(0, read=False, write=True)
+            self._size, _BOUND[id(self.ctx)] = (w, h), weakref.ref(self)
         triangles = _grid(self.triangles)
         self._run(CLEAR, _grid(w * h))
         self._run(SMALL_DEPTH, triangles)
