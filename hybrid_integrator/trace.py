@@ -77,7 +77,7 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   first_effects: tuple[tuple[str, ...], ...] | None = None,
                   first_config: mi.UInt32 | None = None,
                   keep_direct: bool = False, paths: int = 1,
-                  long: mi.Bool | None = None, split: int = 0) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
+                  long: mi.Bool | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
     With ``keep_direct``, also returns the light of each path's first vertex alone (its emission
@@ -126,7 +126,7 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
     rng.seed(mi.sample_tea_64(stream, key), mi.UInt64(stream))
     L, first_light, rays = _paths(scene, ray, si, rng, config, path_active, first, Lobes.of(effects), max_depth,
-                                  rr_depth, hide_emitters, split)
+                                  rr_depth, hide_emitters)
     first_light = first_light if keep_direct else None  # not written by the kernel where no one reads it
     dr.eval(L, first_light, rays)  # one kernel: the loop runs once for all
     if paths > 1:  # each pixel's mean; its rays, all of them
@@ -258,21 +258,15 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
     p.active = active_next
 
 
+@dr.syntax
 def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, config: mi.UInt32 | None,
-           active: mi.Bool, first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool,
-           split: int = 0):
+           active: mi.Bool, first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
     """The paths from the primary hits ``si`` of the ``active`` lanes: the primary vertex with its
-    object's own lobes (``first[config]``), then a symbolic Dr.Jit loop (as Mitsuba's ``path``)
+    object's own lobes (``first[config]``), then one symbolic Dr.Jit loop (as Mitsuba's ``path``)
     with the integrator's; when the primary vertex's lobes are the loop's (every candidate with
     the full effect set: the default), it is the loop's first iteration. Returns the radiance, the
     light of the primary vertex alone (``None`` when it is the loop's first iteration) and, per ray
-    kind, the rays each lane traced.
-
-    ``split`` > 0 runs the loop in two launches (a *wavefront* split): the first stops every path
-    at depth ``split``; the paths still alive are compacted onto the first lanes
-    (``selection.compact``) and continue in the second, whose warps then hold busy lanes only,
-    and their light and rays are added back to their lanes. The same paths and random numbers as
-    one launch (each lane's generator state travels with it)."""
+    kind, the rays each lane traced."""
     n = dr.width(rng.state)
     depth_limit = max_depth if max_depth >= 0 else 2**31 - 1
     emitted = dr.zeros(mi.Color3f, n) if hide_emitters else mi.Color3f(si.emitter(scene).eval(si, active))
@@ -285,32 +279,10 @@ def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.
     if len(first) > 1 or first[0].key() != rest.key():
         _vertex(scene, p, first, config, depth_limit, rr_depth)
         first_light = mi.Color3f(p.L)
-    if not split:
-        _loop(scene, p, rest, depth_limit, rr_depth, depth_limit)
-        return p.L, first_light, p.rays
-    _loop(scene, p, rest, depth_limit, rr_depth, split)
-    dr.eval(p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays)  # the first launch, all its state at once
-    alive = p.active  # stopped at the split, not ended
-    index, lane, slot = compact(alive)
-    q = _Path(ray=dr.gather(mi.Ray3f, p.ray, index, lane), si=dr.gather(mi.SurfaceInteraction3f, p.si, index, lane),
-              rng=dr.gather(mi.PCG32, p.rng, index, lane), L=dr.zeros(mi.Color3f, n),
-              beta=dr.gather(mi.Color3f, p.beta, index, lane), eta=dr.gather(mi.Float, p.eta, index, lane),
-              depth=dr.gather(mi.UInt32, p.depth, index, lane), active=mi.Bool(lane),
-              rays=[dr.zeros(mi.UInt32, n) for _ in RAY_KINDS])
-    _loop(scene, q, rest, depth_limit, rr_depth, depth_limit)
-    dr.eval(q.L, q.rays)  # the second launch
-    L = p.L + dr.select(alive, dr.gather(mi.Color3f, q.L, slot, alive), 0.0)
-    rays = [r + dr.select(alive, dr.gather(mi.UInt32, r2, slot, alive), 0) for r, r2 in zip(p.rays, q.rays)]
-    return L, first_light, rays
-
-
-@dr.syntax
-def _loop(scene: mi.Scene, p: _Path, lobes: Lobes, depth_limit: int, rr_depth: int, stop: int) -> None:
-    """The vertices of the paths ``p`` (updated in place) until each has ended or reached depth
-    ``stop``: one symbolic loop, its state variables one by one, as ``dr.while_loop`` tracks them."""
+    # the loop's state variables, one by one, as dr.while_loop tracks them
     ray, si, rng, L, beta, eta, depth, active, rays = p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays
-    while active & (depth < stop):
+    while active:
         q = _Path(ray=ray, si=si, rng=rng, L=L, beta=beta, eta=eta, depth=depth, active=active, rays=list(rays))
-        _vertex(scene, q, (lobes,), None, depth_limit, rr_depth)
+        _vertex(scene, q, (rest,), None, depth_limit, rr_depth)
         ray, si, rng, L, beta, eta, depth, active, rays = q.ray, q.si, q.rng, q.L, q.beta, q.eta, q.depth, q.active, q.rays
-    p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays = ray, si, rng, L, beta, eta, depth, active, rays
+    return L, first_light, rays
