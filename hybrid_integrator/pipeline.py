@@ -546,6 +546,10 @@ class HybridRenderer:
             clock.lap("post")
             frame.stats.times_ms["issue"] = clock.elapsed()
             dr.eval(image)
+            # the cost model refitted to the last frame's trace (observed after its synchronization)
+            # now, while the GPU traces this frame, not in the plan made ahead below, where the host
+            # would keep the GPU waiting once it has denoised (the same fit: nothing is observed between)
+            state.cost_model.current()
             # the counts, then what the next frame learns from them: on the GPU while it develops
             # and denoises this frame (the counts' copy waits for the device passes alone)
             words = self._counts.wait() if self._counts else [np.array(o.counts) for o in outputs]
