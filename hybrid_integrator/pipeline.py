@@ -556,6 +556,9 @@ class HybridRenderer:
             clock.lap("sync")
             learnt = self._account(settings, frame, plan, state, [PassCounts.read(w, len(self.objects)) for w in words],
                                    clock)
+            # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
+            # frame's work) now, where the host waits for the GPU, not in the next frame's raster pass
+            self.raster.release()
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
             self._account_times(settings, frame, state, learnt, clock)

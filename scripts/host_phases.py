@@ -63,7 +63,7 @@ def main() -> None:
                          (budget.FrameState, ("learn_rays", "learn_errors")), (budget.CostModel, ("observe", "_fit")),
                          (pipeline.PassCounts, ("read",)), (heuristic.Coverage, ("of",)),
                          (pipeline.StageClock, ("frame_times",)), (pipeline.Denoiser, ("__call__",)),
-                         (pipeline, ("gl_flush",)), (visibility.Rasterizer, ("render", "device_ids", "_release")),
+                         (pipeline, ("gl_flush",)), (visibility.Rasterizer, ("render", "device_ids", "release")),
                          (compute.ComputeVisibility, ("render", "_run")), (camera.RasterCamera, ("relative_clip",)),
                          (interop._SharedImage, ("copy", "release"))):
         for name in names:

@@ -7,10 +7,11 @@ CUDA array copied device to device into a Dr.Jit array (``cuMemcpy2DAsync``) on 
 stream: OpenGL does no read of its own (a ``glReadPixels`` into a pixel buffer, the way before,
 added 0.13 ms per pass to the H100's OpenGL time at 1280×720), and nothing waits on the host (mapping orders
 the copy after the OpenGL commands that drew the texture, and the stream orders the kernels after
-it). The texture stays mapped after the copy until OpenGL next needs it (:meth:`Readback.release`,
-which the rasterizer calls before it draws or reads): unmapped right after the copy, the unmap held
-up the kernels issued after it, and DR frames took 0.2–0.5 ms longer on the H100 where the GPU,
-not the host, bounds them (``docs/results/gpu/issue10/unmap``).
+it). The texture stays mapped after the copy until the frame's work is issued
+(:meth:`Readback.release`, which the renderer calls at the end of each frame, where the host waits
+for the GPU, and the rasterizer before it draws or reads): unmapped right after the copy, the
+unmap held up the kernels issued after it, and DR frames took 0.2–0.5 ms longer on the H100 where
+the GPU, not the host, bounds them (``docs/results/gpu/issue10/unmap``).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``

@@ -132,7 +132,7 @@ class Rasterizer:
                method: str = "auto") -> moderngl.Framebuffer:
         """The raster pass alone: the scene's visibility buffer in the camera's target (left on the
         GPU), by ``method`` (:data:`RASTER_METHODS`)."""
-        self._release()
+        self.release()
         if resolve_method(method) == "compute":
             if self._compute is None:
                 self._compute = ComputeVisibility(self.ctx, self.vertices, self.faces, len(self.geometry.faces))
@@ -167,7 +167,7 @@ class Rasterizer:
     def read_ids(self, fbo: moderngl.Framebuffer) -> np.ndarray:
         """The target of :meth:`render` on the host: per pixel (row-major, row 0 at the top) the
         global triangle number + 1, 0 for the background."""
-        self._release()
+        self.release()
         return np.frombuffer(fbo.read(attachment=0, components=1, dtype="u4"), dtype=np.uint32)
 
     def device_ids(self, fbo: moderngl.Framebuffer) -> mi.UInt32:
@@ -177,8 +177,9 @@ class Rasterizer:
             self._readback = Readback()
         return self._readback.ids(fbo, self.read_ids)
 
-    def _release(self) -> None:
-        """The targets back from CUDA (``interop.Readback.release``) before OpenGL touches them."""
+    def release(self) -> None:
+        """The targets back from CUDA (``interop.Readback.release``): before OpenGL touches them,
+        and at the end of a frame (``pipeline.HybridRenderer.render``)."""
         if self._readback is not None:
             self._readback.release()
 
