@@ -50,8 +50,6 @@ from .raster.interop import device_array
 #: and denoised at 160×120, and the mean FLIP is lower too (denoised 0.159-0.160 against
 #: 0.164 with 16 and 0.176 without history; tests/test_accuracy.py)
 MOTION_FRAMES = 6
-#: how a moving camera's history is fetched: "bilinear" or "nearest"
-REPROJECTION = "bilinear"
 #: frames it holds with a still camera (a plain mean of every frame)
 STILL_FRAMES = 1 << 20
 
@@ -96,44 +94,25 @@ def _accumulate(color: mi.Float, film: mi.Float | None, surface: Surface, eye: m
     hit = surface.object != 0xFFFFFFFF
     cap, still = dr.gather(mi.Float, camera, 16), dr.gather(mi.Float, camera, 17) > 0.5
     index = dr.arange(mi.UInt32, n)
+    inside = (clip[3] > 0) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    prev = dr.select(hit & inside, mi.UInt32(dr.clip(mi.Int32(y), 0, height - 1)) * width
+                     + mi.UInt32(dr.clip(mi.Int32(x), 0, width - 1)), index)
+    prev_p = dr.gather(mi.Point3f, history_surface.position, prev)
     eye_p = mi.Point3f(*(dr.gather(mi.Float, eye, k) for k in range(3)))
-    tolerance = 0.01 * dr.norm(p - eye_p)
-    # the history at the previous pixel position: the four pixels around it, bilinearly weighted,
-    # each only where it shows the same object on the same surface (then renormalised); a still
-    # camera: every pixel is its own history (the frames are more samples of the same pixel,
-    # whichever object each sample hit: supersampling)
-    fx, fy = x - 0.5, y - 0.5
-    x0, y0 = dr.floor(fx), dr.floor(fy)
-    tx, ty = fx - x0, fy - y0
-    taps = []
-    for dx, dy in ((0, 0), (1, 0), (0, 1), (1, 1)) if REPROJECTION == "bilinear" else ((None, None),):
-        if dx is None:  # the nearest pixel
-            xi, yi, w = mi.Int32(dr.floor(x)), mi.Int32(dr.floor(y)), mi.Float(1.0)
-        else:
-            xi, yi = mi.Int32(x0) + dx, mi.Int32(y0) + dy
-            w = (tx if dx else 1.0 - tx) * (ty if dy else 1.0 - ty)
-        ok = hit & (clip[3] > 0) & (xi >= 0) & (xi < width) & (yi >= 0) & (yi < height)
-        j = mi.UInt32(dr.clip(yi, 0, height - 1)) * width + mi.UInt32(dr.clip(xi, 0, width - 1))
-        ok &= dr.gather(mi.UInt32, history_surface.object, j, ok) == surface.object
-        ok &= dr.abs(dr.dot(dr.gather(mi.Point3f, history_surface.position, j, ok) - p, surface.normal)) <= tolerance
-        taps.append((j, dr.select(ok, w, 0.0)))
-    total = sum(w for _, w in taps)
-    moved = ~still & (total > 1e-3)
+    moved = dr.select(hit, inside & (dr.gather(mi.UInt32, history_surface.object, prev) == surface.object)
+                      & (dr.abs(dr.dot(prev_p - p, surface.normal)) <= 0.01 * dr.norm(p - eye_p)), False)
+    # a still camera: every pixel is its own history (the frames are more samples of the same
+    # pixel, whichever object each sample hit: supersampling); a moving one: the tests above
     same = still | moved
-    taps = [(dr.select(still, index, j), dr.select(still, 1.0, dr.select(moved, w / total, 0.0))) for j, w in taps[:1]] \
-        + [(j, dr.select(still, 0.0, dr.select(moved, w / total, 0.0))) for j, w in taps[1:]]
-
-    def fetched(values, channels: int, c: int = 0):
-        return sum(w * dr.gather(mi.Float, values, j * channels + c, w > 0) for j, w in taps)
-
-    count = dr.minimum(dr.select(same, fetched(history_count, 1), 0.0) + 1.0, cap)
+    prev = dr.select(still, index, prev)
+    count = dr.minimum(dr.select(same, dr.gather(mi.Float, history_count, prev), 0.0) + 1.0, cap)
     a = dr.rcp(count)
     means = [dr.zeros(mi.Float, 3 * n) for _ in history]
     for c in range(3):
         current = dr.gather(mi.Float, color, index * 3 + c)
         now = (current, current * current) + (() if film is None else (dr.gather(mi.Float, film, index * 3 + c),))
         for mean, value, old_mean in zip(means, now, history):
-            old = fetched(old_mean, 3, c)
+            old = dr.gather(mi.Float, old_mean, prev * 3 + c)
             dr.scatter(mean, dr.select(same, dr.fma(value - old, a, old), value), index * 3 + c)
     return means, count
 

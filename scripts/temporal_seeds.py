@@ -23,8 +23,6 @@ def main() -> None:
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--seeds", type=int, nargs="+", default=[3, 4, 5, 6, 7])
     parser.add_argument("--motion-frames", type=int, nargs="+", default=[6])
-    parser.add_argument("--reprojection", nargs="+", default=["bilinear"], choices=("bilinear", "nearest"),
-                        help="how the moving camera's history is fetched (temporal.REPROJECTION)")
     parser.add_argument("--denoise", action="store_true", help="the default frame (denoised); raw otherwise")
     parser.add_argument("--resx", type=int, default=80)
     parser.add_argument("--resy", type=int, default=60)
@@ -52,10 +50,9 @@ def main() -> None:
     params["to_world"] = mi.ScalarTransform4f(start)
     params.update()
     kind = f"{'denoised' if args.denoise else 'raw'} {args.resx}x{args.resy}"
-    for frames, reprojection in ((f, r) for f in args.motion_frames for r in args.reprojection):
-        temporal.MOTION_FRAMES, temporal.REPROJECTION = frames, reprojection
-        hi.forget(scene)  # the history's update is recorded (dr.freeze) for one way of fetching
-        print(f"{kind}, MOTION_FRAMES {frames}, {reprojection}", flush=True)
+    for frames in args.motion_frames:
+        temporal.MOTION_FRAMES = frames
+        print(f"{kind}, MOTION_FRAMES {frames}", flush=True)
         for seed in args.seeds:
             common = dict(spp=1, seed=seed, denoise=args.denoise, layers=False)
             plain = hi.render_sequence(scene, cameras, **common)
