@@ -8,7 +8,7 @@ objects traced (and those traced by their shadow tier), and the model after the 
 part t0, its margin and its rates per ray kind (``budget.CostModel``). Several ``--fraction``
 values run one after the other, each with a fresh integrator. ``--json`` also writes every frame's
 observation (the rays it traced and was expected to trace, by kind, and the trace's time): the
-data to compare cost models on (``scripts/cost_model_replay.py``).
+data to compare cost models on.
 
     python scripts/cost_model_trace.py scenes/showcase.xml --fraction 0.5 -D resx=320 -D resy=180 -D showcase_dir=../shared/scenes/cbox
 """

@@ -19,9 +19,9 @@ slower on four of five scenes, docs/results/gpu/issue10/stop28/primary_stage_com
 from __future__ import annotations
 
 import argparse
-import statistics
-import time
 from pathlib import Path
+
+from trace_overhead import timed_in_turn  # scripts/ is on sys.path when a script runs
 
 
 def main() -> None:
@@ -65,25 +65,11 @@ def main() -> None:
 
         runs = {"raster": (dr.freeze(hits_of), (scene, sensor, ids, tables)),
                 "camera rays": (dr.freeze(rays_of), (scene, sensor, tables))}
-        wall: dict[str, list[float]] = {k: [] for k in runs}
-        device: dict[str, list[float]] = {k: [] for k in runs}
-        with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
-            for k, (fn, inputs) in runs.items():  # records (twice: the literals made opaque)
-                dr.eval(fn(*inputs))
-                dr.eval(fn(*inputs))
-            dr.sync_thread()
-            for _ in range(args.repeats):
-                for k, (fn, inputs) in runs.items():
-                    dr.kernel_history_clear()
-                    start = time.perf_counter()
-                    dr.eval(fn(*inputs))
-                    dr.sync_thread()
-                    wall[k].append((time.perf_counter() - start) * 1e3)
-                    device[k].append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
+        times = timed_in_turn([lambda fn=fn, inputs=inputs: fn(*inputs) for fn, inputs in runs.values()], args.repeats)
         refined = int(np.count_nonzero(np.array(runs["raster"][0](*runs["raster"][1])[-1])))
         lines.append(f"{name} ({w}×{h}, {refined} refined pixels, {refined / (w * h):.1%})")
-        for k in runs:
-            lines.append(f"  {k:12s} device {statistics.median(device[k]):.3f} ms, wall {statistics.median(wall[k]):.3f} ms")
+        for k, (wall, device) in zip(runs, times):
+            lines.append(f"  {k:12s} device {device:.3f} ms, wall {wall:.3f} ms")
     text = "\n".join(lines)
     print(text)
     if args.output:

@@ -27,21 +27,29 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def timed(fn, repeats: int) -> tuple[float, float]:
     """Median wall ms (one synchronization per call) and median device ms of ``fn()``."""
+    return timed_in_turn([fn], repeats)[0]
+
+
+def timed_in_turn(fns, repeats: int) -> list[tuple[float, float]]:
+    """:func:`timed` of each of ``fns``, called in turn ``repeats`` times (so that a drift of the
+    host's speed reaches all of them alike)."""
     import drjit as dr
 
-    fn()  # compiles or records
-    fn()  # a frozen function may record again with its literals made opaque
-    wall, device = [], []
+    for fn in fns:
+        fn()  # compiles or records
+        fn()  # a frozen function may record again with its literals made opaque
+    wall, device = [[] for _ in fns], [[] for _ in fns]
     with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
         for _ in range(repeats):
-            dr.sync_thread()
-            dr.kernel_history_clear()
-            start = time.perf_counter()
-            dr.eval(fn())
-            dr.sync_thread()
-            wall.append((time.perf_counter() - start) * 1e3)
-            device.append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
-    return statistics.median(wall), statistics.median(device)
+            for k, fn in enumerate(fns):
+                dr.sync_thread()
+                dr.kernel_history_clear()
+                start = time.perf_counter()
+                dr.eval(fn())
+                dr.sync_thread()
+                wall[k].append((time.perf_counter() - start) * 1e3)
+                device[k].append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
+    return [(statistics.median(w), statistics.median(d)) for w, d in zip(wall, device)]
 
 
 def main() -> None:
