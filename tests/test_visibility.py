@@ -113,6 +113,32 @@ def test_compute_passes_of_two_scenes_and_sizes_take_turns():
     assert all((a > 0).mean() > 0.3 for a in alone)
 
 
+def test_one_pass_compute_is_the_two_pass_bit_for_bit_or_names_what_it_needs():
+    """With 64-bit atomics (NVIDIA's GL) the compute pass resolves depth and number in one pass:
+    it must give the two-pass visibility buffer exactly, on every tier (Sponza). Mesa's llvmpipe
+    (CI) has no 64-bit atomics: the one-pass pass, asked for, says which extension it needs, and the
+    pass the rasterizer picks is the two-pass one."""
+    from hybrid_integrator.raster.camera import RasterCamera
+    from hybrid_integrator.raster.compute import ATOMIC64, ComputeVisibility
+
+    scene = load(SCENES["sponza"], resx=192, resy=108)
+    raster = hi.rasterizer(scene)
+    camera = RasterCamera.from_sensor(scene.sensors()[0])
+    fbo = raster.target(camera.width, camera.height)
+    passes = {}
+    for one_pass in (False, True):
+        if one_pass and ATOMIC64 not in raster.ctx.extensions:
+            with pytest.raises(RuntimeError, match=ATOMIC64):
+                ComputeVisibility(raster.ctx, raster.vertices, raster.faces, len(raster.geometry.faces), one_pass=True)
+            assert not ComputeVisibility(raster.ctx, raster.vertices, raster.faces, len(raster.geometry.faces)).one_pass
+            continue
+        visibility = ComputeVisibility(raster.ctx, raster.vertices, raster.faces, len(raster.geometry.faces), one_pass)
+        passes[one_pass] = raster.read_ids(visibility.render(camera, (0.3, 0.6), fbo)).copy()
+        assert visibility.tiers()[0] > 0 and visibility.tiers()[1] > 0 and (passes[one_pass] > 0).mean() > 0.99
+    if True in passes:
+        assert np.array_equal(passes[True], passes[False])
+
+
 @pytest.mark.parametrize("fov_axis", ["smaller", "larger", "diagonal"])
 def test_fov_axis_conventions(fov_axis):
     scene = load(DEFAULT_SCENE)

@@ -12,9 +12,14 @@ medium ones one per work group, large ones by screen tiles): the result is the d
 number + 1 per pixel, 0 for the background, at the camera's sub-pixel offset) in the draw's own
 target texture, so interop (``interop.Readback``) and everything after stage 1 are unchanged.
 
-Per frame: seven dispatches, no host wait and no graphics work: clear; the small triangles'
-depth, and the lists of the others; the medium triangles' dispatch size, then their depth; the
-numbers of both; the tiles of the large ones. The geometry is the draw's, uploaded once.
+Per frame: five dispatches, no host wait and no graphics work: clear; the small triangles'
+depth and number, and the lists of the others; the medium triangles' dispatch size, then their
+depth and number; the tiles of the large ones. Depth and number go into one 64-bit word per pixel,
+resolved by one 64-bit ``atomicMax`` (``GL_NV_shader_atomic_int64``, the ``one_pass`` pass). A GL
+without 64-bit atomics (Mesa 22's llvmpipe, which CI runs) rasterizes the small and the medium
+triangles twice, the depths, then the numbers where the depth won: seven dispatches, the same
+visibility buffer bit for bit (``scripts/raster_compute_probe.py`` compares the two on the GPU).
+The geometry is the draw's, uploaded once.
 """
 from __future__ import annotations
 
@@ -36,6 +41,8 @@ LISTED_BYTES = 64
 MAX_GROUPS = 65535
 #: the shader's stages (``visibility.comp``), numbered in the order they run
 CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES = range(7)
+#: the extension whose 64-bit atomics resolve depth and number in one pass
+ATOMIC64 = "GL_NV_shader_atomic_int64"
 _MEDIUM_GROUPS_OFFSET = 8  # bytes into the counts buffer: the indirect dispatch of the medium triangles
 #: per GL context, the :class:`ComputeVisibility` whose buffers and target are bound to its
 #: storage-buffer and image units (nothing else in the package binds them)
@@ -51,26 +58,43 @@ def _grid(invocations: int) -> tuple[int, int, int]:
 class ComputeVisibility:
     """A ``Rasterizer``'s visibility pass in compute shaders."""
 
-    def __init__(self, ctx: moderngl.Context, vertices: moderngl.Buffer, faces: moderngl.Buffer, triangles: int):
+    def __init__(self, ctx: moderngl.Context, vertices: moderngl.Buffer, faces: moderngl.Buffer, triangles: int,
+                 one_pass: bool | None = None):
         """``vertices`` (3 float32 each) and ``faces`` (3 uint32 each, ``triangles`` of them): the
-        draw's own buffers. (No reference to the :class:`Rasterizer`: a cycle would leave its
-        Dr.Jit tables to the garbage collector, which may free them inside a frozen function.)"""
+        draw's own buffers. ``one_pass``: depth and number in one 64-bit atomic (module
+        docstring); None: where the context has :data:`ATOMIC64`. (No reference to the
+        :class:`Rasterizer`: a cycle would leave its Dr.Jit tables to the garbage collector, which
+        may free them inside a frozen function.)"""
         self.ctx, self.triangles = ctx, triangles
-        self.program = ctx.compute_shader(shader_source("visibility.comp"))
+        supported = ATOMIC64 in ctx.extensions and "GL_ARB_gpu_shader_int64" in ctx.extensions
+        self.one_pass = supported if one_pass is None else bool(one_pass)
+        if self.one_pass and not supported:
+            raise RuntimeError(f"one_pass=True needs 64-bit atomics ({ATOMIC64}), which "
+                               f"{ctx.info['GL_RENDERER']} does not have")
+        source = shader_source("visibility.comp")
+        if self.one_pass:  # the define after the #version line, which must come first
+            version, rest = source.split("\n", 1)
+            source = f"{version}\n#define ONE_PASS\n{rest}"
+        self.program = ctx.compute_shader(source)
+        #: the stages a pass runs (the two NUMBERS stages only without 64-bit atomics)
+        self.stages = ((CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, TILES) if self.one_pass else
+                       (CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES))
         self._storage = [
             vertices, faces,
-            None, None,  # the small triangles' depth and numbers, per film size (``_target``)
+            None, None,  # per pixel: depth and number (one_pass: one 64-bit word, binding 2), per film size
             ctx.buffer(reserve=20),  # the lists' lengths, then the medium triangles' work groups
             ctx.buffer(reserve=LISTED_BYTES * max(self.triangles, 1)),  # the large triangles
             ctx.buffer(reserve=4 * max(self.triangles, 1)),  # the medium triangles' numbers
         ]
-        self._targets: dict[tuple[int, int], tuple[moderngl.Buffer, moderngl.Buffer]] = {}
+        self._targets: dict[tuple[int, int], tuple[moderngl.Buffer, moderngl.Buffer | None]] = {}
         self._size = None  # the film size the program's uniforms and the context's bindings are set for
 
-    def _target(self, width: int, height: int) -> tuple[moderngl.Buffer, moderngl.Buffer]:
+    def _target(self, width: int, height: int) -> tuple[moderngl.Buffer, moderngl.Buffer | None]:
         key = (width, height)
         if key not in self._targets:
-            self._targets[key] = (self.ctx.buffer(reserve=4 * width * height), self.ctx.buffer(reserve=4 * width * height))
+            pixels = width * height
+            self._targets[key] = ((self.ctx.buffer(reserve=8 * pixels), None) if self.one_pass else
+                                  (self.ctx.buffer(reserve=4 * pixels), self.ctx.buffer(reserve=4 * pixels)))
         return self._targets[key]
 
     def _run(self, stage: int, grid: tuple[int, int, int] | None) -> None:
@@ -106,15 +130,13 @@ class ComputeVisibility:
             program["size"].value = (w, h)
             program["triangles"].value = self.triangles
             for binding, buffer in enumerate(self._storage):
-                buffer.bind_to_storage_buffer(binding)
+                if buffer is not None:
+                    buffer.bind_to_storage_buffer(binding)
             fbo.color_attachments[0].bind_to_image(0, read=False, write=True)
             self._size, _BOUND[id(self.ctx)] = (w, h), weakref.ref(self)
-        triangles = _grid(self.triangles)
-        self._run(CLEAR, _grid(w * h))
-        self._run(SMALL_DEPTH, triangles)
-        self._run(MEDIUM_GROUPS, (1, 1, 1))
-        self._run(MEDIUM_DEPTH, None)
-        self._run(SMALL_NUMBERS, triangles)
-        self._run(MEDIUM_NUMBERS, None)
-        self._run(TILES, (-(-w // TILE), -(-h // TILE), 1))
+        triangles, medium = _grid(self.triangles), None  # None: the indirect dispatch
+        grids = {CLEAR: _grid(w * h), SMALL_DEPTH: triangles, MEDIUM_GROUPS: (1, 1, 1), MEDIUM_DEPTH: medium,
+                 SMALL_NUMBERS: triangles, MEDIUM_NUMBERS: medium, TILES: (-(-w // TILE), -(-h // TILE), 1)}
+        for stage in self.stages:
+            self._run(stage, grids[stage])
         return fbo

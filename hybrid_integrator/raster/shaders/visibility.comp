@@ -1,4 +1,8 @@
 #version 430
+#ifdef ONE_PASS  // compute.py defines it where the driver has 64-bit atomics (NVIDIA's GL; not Mesa 22's llvmpipe)
+#extension GL_ARB_gpu_shader_int64 : require
+#extension GL_NV_shader_atomic_int64 : require
+#endif
 // Visibility pass in compute shaders (raster/compute.py): the visibility buffer of the draw
 // (visibility.vert/.frag), the global number of the frontmost triangle + 1 per pixel, without the
 // GPU's fixed-function rasterizer or its render targets.
@@ -18,8 +22,12 @@
 //
 // Triangles wholly in front of the eye whose bounding box holds at most SMALL_PIXELS pixel
 // centres (almost all of a detailed mesh's) are rasterized by one invocation each, those of at
-// most MEDIUM_PIXELS by a work group each; both resolve visibility with atomicMax on the depth's
-// float bits, then on the number where the depth won. The others (large, or crossing the eye's
+// most MEDIUM_PIXELS by a work group each; both resolve visibility with atomics. With 64-bit
+// atomics (ONE_PASS) a pixel's word is the depth's float bits above the number, and one atomicMax
+// per covered pixel keeps the nearest hit, an exact tie the larger number: the visibility buffer
+// of Nanite (Karis 2021), in one pass over the triangles. Without them, atomicMax on the depth's
+// float bits, then a second pass over the triangles: atomicMax on the number where the depth won
+// (the same result, bit for bit, at twice the rasterization). The others (large, or crossing the eye's
 // plane) are listed with their edge functions and rasterized by tiles of TILE × TILE pixels: a
 // work group reads the list in batches, keeps the triangles whose edge functions do not reject
 // the whole tile, and each invocation keeps its pixels' nearest hit in registers, merged at the
@@ -27,11 +35,11 @@
 //
 // Stages (uniform `stage`), in the order compute.py runs them:
 //   0 CLEAR: per pixel: clear the atomics' depth and number, and the lists' lengths
-//   1 SMALL_DEPTH: per triangle: a small one's depth; the medium and the large listed
+//   1 SMALL_DEPTH: per triangle: a small one's depth (ONE_PASS: and number); the medium and the large listed
 //   2 MEDIUM_GROUPS: one invocation: the work groups of stages 3 and 5 (an indirect dispatch)
-//   3 MEDIUM_DEPTH: per medium triangle: its depth
-//   4 SMALL_NUMBERS: per triangle: a small one's number where its depth won
-//   5 MEDIUM_NUMBERS: per medium triangle: its number where its depth won
+//   3 MEDIUM_DEPTH: per medium triangle: its depth (ONE_PASS: and number)
+//   4 SMALL_NUMBERS: per triangle: a small one's number where its depth won (not run with ONE_PASS)
+//   5 MEDIUM_NUMBERS: per medium triangle: its number where its depth won (not run with ONE_PASS)
 //   6 TILES: per tile: the large triangles, the merge, the target
 layout(local_size_x = 256) in;
 
@@ -42,8 +50,12 @@ struct Listed {  // a listed triangle: its edge functions with the vertices' cli
 
 layout(std430, binding = 0) readonly buffer Vertices { float vertices[]; };
 layout(std430, binding = 1) readonly buffer Faces { uint faces[]; };
+#ifdef ONE_PASS
+layout(std430, binding = 2) buffer Nearest { uint64_t nearest[]; };  // (depth bits << 32) | number
+#else
 layout(std430, binding = 2) buffer Depth { uint depth[]; };
 layout(std430, binding = 3) buffer Ids { uint ids[]; };
+#endif
 layout(std430, binding = 4) buffer Counts { uint listed; uint medium; uint medium_groups[3]; } counts;  // the groups at byte 8
 layout(std430, binding = 5) buffer List { Listed listed[]; };
 layout(std430, binding = 6) buffer Medium { uint medium[]; };
@@ -164,8 +176,12 @@ void write_pixel(Setup q, uint t, int i, int j, bool numbers) {
     float d = q.plane.x + q.plane.y * (px - q.origin.x) + q.plane.z * (py - q.origin.y);
     if (d < 0.0 || d > 1.0) return;
     uint key = floatBitsToUint(d), pixel = uint(j * size.x + i);
+#ifdef ONE_PASS
+    atomicMax(nearest[pixel], packUint2x32(uvec2(t + 1u, key)));  // x: the low 32 bits
+#else
     if (!numbers) atomicMax(depth[pixel], key);
     else if (depth[pixel] == key) atomicMax(ids[pixel], t + 1u);
+#endif
 }
 
 // stages SMALL_DEPTH and SMALL_NUMBERS: a small triangle by its own invocation; the first pass lists the others
@@ -244,8 +260,14 @@ void tile() {
         ivec2 p = mine + ivec2(0, 8 * row);
         if (p.x > last.x || p.y > last.y) continue;
         uint pixel = uint(p.y * size.x + p.x);
+#ifdef ONE_PASS
+        uvec2 word = unpackUint2x32(nearest[pixel]);
+        float own = uintBitsToFloat(word.y);
+        uint id = word.x;
+#else
         float own = uintBitsToFloat(depth[pixel]);
         uint id = ids[pixel];
+#endif
         if (best_id[row] != 0u && (id == 0u || best[row] > own || (best[row] == own && best_id[row] > id))) id = best_id[row];
         imageStore(target, p, uvec4(id));
     }
@@ -259,9 +281,13 @@ void main() {
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
     uint n = group * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
     if (stage == CLEAR) {
-        if (n < uint(size.x * size.y)) {
-            depth[n] = 0u;  // infinitely far (reversed Z)
-            ids[n] = 0u;  // background
+        if (n < uint(size.x * size.y)) {  // infinitely far (reversed Z), the background
+#ifdef ONE_PASS
+            nearest[n] = uint64_t(0);
+#else
+            depth[n] = 0u;
+            ids[n] = 0u;
+#endif
         }
         if (n == 0u) counts.listed = counts.medium = 0u;
     } else if (stage == MEDIUM_GROUPS) {
