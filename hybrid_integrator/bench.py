@@ -9,6 +9,10 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   compute shaders of ``raster="compute"``, the default on CUDA);
 - ``rt-baseline``: ``primary="raytrace"``, every candidate traced: the paper's **RT**;
 - ``hybrid``: raster primaries, every candidate traced: the paper's **Hybrid**; Gain = RT / Hybrid;
+  and the **paired Gain** (:func:`paired_gain`): the two frames rendered in turn, one pair at a
+  time, the median and quartiles of the pairs' ratios. The two blocks of frames behind Gain are
+  measured a second apart, and a host whose speed drifts moves it by a few per cent between runs
+  of the same code (issue 10, stop 29); a pair's frames share the drift;
 - ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
   a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
   frames (``budget.py``), which are warm-up, not measured;
@@ -88,7 +92,7 @@ PAPER = {
                     "Hybrid": 28.283},
 }
 FIELDS = ("scene", "name", "variant", "device", "raster", "width", "height", "spp", "frames", "vertices", "triangles", "shapes",
-          "ground_truth", "dr_ms", "gl_ms", "rt_ms", "path_1spp_ms", "hybrid_ms", "gain", "all_candidates_trace_ms", "equal_time",
+          "ground_truth", "dr_ms", "gl_ms", "rt_ms", "path_1spp_ms", "hybrid_ms", "gain", "gain_paired", "all_candidates_trace_ms", "equal_time",
           "methods", "command")
 
 
@@ -121,6 +125,27 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
     # -D applies to the scenes that take it: Mitsuba refuses parameters a file does not use
     text = Path(spec).read_text(errors="replace") if Path(spec).is_file() else ""
     return load_scene(spec, **{k: v for k, v in params.items() if f"${k}" in text}), Path(spec).stem
+
+
+def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3) -> dict:
+    """RT baseline / all-candidates hybrid, frame by frame (module docstring): two integrators
+    with these ``properties``, one with ``primary="raytrace"``, each carrying its own state, render
+    ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for both; the first of a pair
+    alternates, so neither always follows the other). Returns the median ratio of the measured
+    pairs, its quartiles, and each side's median frame time."""
+    from .api import _integrator
+
+    integrators = {"hybrid": _integrator(dict(properties)), "rt": _integrator(dict(properties, primary="raytrace"))}
+    times: dict[str, list[float]] = {"hybrid": [], "rt": []}
+    for k in range(warmup + frames):
+        for side in ("hybrid", "rt") if k % 2 == 0 else ("rt", "hybrid"):
+            result = integrators[side].render_result(scene, seed=seed + k, spp=spp, layers=False)
+            if k >= warmup:
+                times[side].append(result.stats.times_ms["total"])
+    ratios = np.asarray(times["rt"]) / np.asarray(times["hybrid"])
+    q25, median, q75 = (float(q) for q in np.percentile(ratios, [25, 50, 75]))
+    return {"median": median, "q25": q25, "q75": q75, "pairs": int(len(ratios)),
+            "hybrid_ms": statistics.median(times["hybrid"]), "rt_ms": statistics.median(times["rt"])}
 
 
 def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int = 1, gt_spp: int = 1024,
@@ -174,6 +199,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     raster = hybrid("raster", "raster", 3, candidates="")
     everything = hybrid("hybrid", "hybrid", 3)
     rt = hybrid("rt-baseline", "rt", 3, primary="raytrace")
+    paired = paired_gain(scene, {"freeze": freeze, **properties}, frames, spp, seed)
     trace_all = everything.stages_ms["trace"]
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
         hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))
@@ -236,7 +262,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                          "file": None if gt_file is None else str(gt_file), "cached": cached},
         "dr_ms": raster.time_ms, "gl_ms": raster.stages_ms.get("gl", 0.0), "rt_ms": rt.time_ms,
         "path_1spp_ms": curve[0].time_ms,
-        "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "all_candidates_trace_ms": trace_all,
+        "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "gain_paired": paired, "all_candidates_trace_ms": trace_all,
         "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
     }
 
@@ -327,13 +353,17 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              "## Table 3 layout: hybrid against pure ray tracing", "",
              "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL pass "
              "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene.", "",
-             "| scene | vertices | triangles | shapes | DR | GL pass | RT | Hybrid | Gain | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "Gain: RT / Hybrid of the two rows; paired: the same two frames rendered in turn, the median "
+             "ratio of the pairs [quartiles] (`bench.paired_gain`).", "",
+             "| scene | vertices | triangles | shapes | DR | GL pass | RT | Hybrid | Gain | Gain, paired | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in reports:
         p = PAPER.get(r["name"], {})
         paper = f"{p['DR']} / {p['RT']} / {p['Hybrid']} / {p['Gain']}" if "RT" in p else "–"
+        g = r.get("gain_paired")  # reports written before it was measured have none
+        paired = f"{g['median']:.3f} [{g['q25']:.3f}, {g['q75']:.3f}]" if g else "–"
         lines.append(f"| {r['name']} | {r['vertices']:,} | {r['triangles']:,} | {r['shapes']} | {r['dr_ms']:.2f} | "
-                     f"{r['gl_ms']:.2f} | {r['rt_ms']:.2f} | {r['hybrid_ms']:.2f} | {r['gain']:.2f} | "
+                     f"{r['gl_ms']:.2f} | {r['rt_ms']:.2f} | {r['hybrid_ms']:.2f} | {r['gain']:.2f} | {paired} | "
                      f"{r['path_1spp_ms']:.2f} | {paper} |")
     if all(r["equal_time"] for r in reports):
         lines += _table4(reports)

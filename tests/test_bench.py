@@ -49,6 +49,11 @@ def test_bench_report_has_every_field(tmp_path):
     rt = next(m for m in report["methods"] if m["method"] == "rt-baseline")
     assert rt["pixels_traced"] == hybrid["pixels_traced"] and rt["flip"] == pytest.approx(hybrid["flip"], abs=2e-3)
     assert report["gain"] == pytest.approx(report["rt_ms"] / report["hybrid_ms"])
+    # the paired Gain: one ratio per measured frame, its median between its quartiles, in the table
+    paired = report["gain_paired"]
+    assert paired["pairs"] == report["frames"] and paired["q25"] <= paired["median"] <= paired["q75"]
+    assert paired["hybrid_ms"] > 0 and paired["rt_ms"] > 0 and 0.2 < paired["median"] < 5
+    assert f"{paired['median']:.3f} [{paired['q25']:.3f}, {paired['q75']:.3f}]" in (tmp_path / "bench.md").read_text()
     assert report["triangles"] == 10264 and report["width"] == 48 and report["height"] == 32
     assert report["command"].startswith("hybrid bench ")
     assert (tmp_path / "default.png").stat().st_size > 0 and "Table 3 layout" in (tmp_path / "bench.md").read_text()
