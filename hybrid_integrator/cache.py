@@ -3,10 +3,12 @@ material constants) and files on disk (ground truths, generated meshes).
 
 Mitsuba scenes cannot be weakly referenced, so the few most recently used scenes keep theirs
 (strong references, least recently used dropped first). After editing a scene's geometry or
-materials through ``mi.traverse``, call :func:`forget` for it. A scene kept alive here costs the
-other scenes' frames too: Dr.Jit 1.5's frozen replay walks every shape alive in the process (the
-showcase's replay took 0.88 ms alone and 1.45 ms with three other bench scenes cached, on a 2-core
-CPU: ``docs/results/cpu/cached_scenes``), so :func:`forget` a scene that is done with.
+materials through ``mi.traverse``, call :func:`forget` for it (its frozen device pass replays
+with a snapshot of its variables: ``frozen.py``). A scene kept alive here can cost the other
+scenes' frames too: a scene's snapshot holds the variables of every shape alive when it is taken
+(Dr.Jit records a virtual call for every registered instance), so scenes loaded earlier lengthen
+its replays and scenes loaded later do not (``docs/results/cpu/cached_scenes``); :func:`forget` a
+scene that is done with.
 """
 from __future__ import annotations
 

@@ -45,6 +45,7 @@ from .budget import FramePlan, FrameState, plan_frame
 from .compose import compose
 from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
+from .frozen import FrozenFunction, FrozenScene
 from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, candidate_kinds, candidates,
                         coverage_sums, default_kinds, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
@@ -146,13 +147,17 @@ class FrameStats:
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
     raster_method: str = ""  # the raster pass that made it: draw or compute (raster/visibility.py)
     fallback: str = ""  # what the frame did instead of the hybrid pipeline, and why ("": nothing)
+    #: what the frozen device pass took for the scene (frozen.py): ``variables``, the snapshot of
+    #: its Dr.Jit variables taken once; ``scene``, the scene itself, walked by Dr.Jit on every
+    #: call (where the snapshot cannot serve); "": the pass ran unfrozen
+    frozen_inputs: str = ""
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
     predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
     #: host time (ms) by phase: frame set-up, selection, the raster pass and its interop copy, the
-    #: device pass (a frozen replay: Dr.Jit walks the scene's registered objects, then launches),
-    #: film development, post-processing, the statistics and what the next frame learns from them
-    #: (``readback``: on the GPU while it develops and denoises the frame), and ``timing``:
+    #: device pass (a frozen replay: Dr.Jit walks its inputs, the scene's variables among them,
+    #: then launches), film development, post-processing, the statistics and what the next frame
+    #: learns from them (``readback``: on the GPU while it develops and denoises the frame), and ``timing``:
     #: reading Dr.Jit's kernel history for the stage times (profiling, not counted in ``total``)
     host_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(HOST_PHASES, 0.0))
     candidates_visible: int = 0
@@ -433,21 +438,6 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
                       film=film_block)
 
 
-class _BoundPass:
-    """:func:`device_pass` with its static settings and stage clock bound, as ``dr.freeze`` wraps
-    it. Dr.Jit 1.5's frozen function walks its arguments *and the globals its function names*
-    on every call, to notice a change (``dr.freeze`` captures them): ``device_pass`` names some
-    twenty, and its ``PassStatic`` (a dataclass, walked field by field) another ~0.05 ms of host time
-    per pass. The bound method names one global, and the settings, fixed for each frozen function
-    (one per ``PassStatic``), are not walked."""
-
-    def __init__(self, static: PassStatic, clock: StageClock):
-        self.static, self.clock = static, clock
-
-    def run(self, scene: mi.Scene, sensor: mi.Sensor, data: PassData) -> PassOutput:
-        return device_pass(scene, sensor, data, self.static, self.clock)
-
-
 @functools.lru_cache(maxsize=None)
 def _box_filter(variant: str | None = None) -> mi.ReconstructionFilter:
     """Mitsuba's ``box`` reconstruction filter (one per variant)."""
@@ -503,9 +493,11 @@ class HybridRenderer:
         self.lighting = DeferredLighting(scene)
         self.constants = shape_constants(scene)
         self.clock = StageClock()
-        # one frozen device pass per PassStatic: Dr.Jit 1.5 was seen to replay a recording made
-        # for other static settings (a pass without the denoiser's guides for one with them)
-        self._frozen: dict[PassStatic, object] = {}
+        # the device pass frozen with the scene's variables in the scene's place (frozen.py); one
+        # per PassStatic: Dr.Jit 1.5 was seen to replay a recording made for other static
+        # settings (a pass without the denoiser's guides for one with them)
+        self.frozen = FrozenScene(scene)
+        self._frozen: dict[PassStatic, FrozenFunction] = {}
         self._gl_queries: list = []
         self._setups: dict = {}
         self._denoisers: dict[str, Denoiser] = {}
@@ -732,9 +724,11 @@ class HybridRenderer:
         # frames run unfrozen
         frozen = settings.freeze and not camera.orthographic
         if frozen and frame.static not in self._frozen:  # made once: a new dr.freeze per pass would be waste
-            self._frozen[frame.static] = dr.freeze(_BoundPass(frame.static, self.clock).run)
+            self._frozen[frame.static] = self.frozen.freeze(functools.partial(device_pass, static=frame.static,
+                                                                              clock=self.clock))
         if frozen:
-            output = self._frozen[frame.static](self.scene, frame.sensor, data)
+            output = self._frozen[frame.static](frame.sensor, data)
+            frame.stats.frozen_inputs = self.frozen.inputs
         else:
             output = device_pass(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")

@@ -59,7 +59,9 @@ Properties
                  as the paper has it).
 ``importance``   I of eq. 3: relevance bonus of objects selected in the previous frame.
 ``freeze``       record the frame's device pass once (``dr.freeze``) and replay its kernels in later
-                 frames instead of tracing its Python again (``hybrid_integrator/pipeline.py``); off:
+                 frames instead of tracing its Python again (``hybrid_integrator/pipeline.py``),
+                 with a snapshot of the scene's Dr.Jit variables (``hybrid_integrator/frozen.py``:
+                 after editing the scene through ``mi.traverse``, call ``hi.forget(scene)``); off:
                  the same kernels, traced every frame (slower; for checking).
 ``denoise``      denoise the frame with Open Image Denoise, guided by the G-buffer's albedo and
                  normal (exact and noise-free: ``hybrid_integrator/denoise.py``); on the GPU it

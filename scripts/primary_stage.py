@@ -40,6 +40,7 @@ def main() -> None:
     mi.set_variant(args.variant)
     from hybrid_integrator.api import rasterizer
     from hybrid_integrator.bench import load_bench_scene
+    from hybrid_integrator.frozen import FrozenScene
     from hybrid_integrator.primary import camera_rays, primary_hits, traced_hits
     from hybrid_integrator.raster.camera import RasterCamera
 
@@ -63,8 +64,9 @@ def main() -> None:
             hits = traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid
 
-        runs = {"raster": (dr.freeze(hits_of), (scene, sensor, ids, tables)),
-                "camera rays": (dr.freeze(rays_of), (scene, sensor, tables))}
+        frozen = FrozenScene(scene)  # as the device pass is frozen: the scene's variables in its place
+        runs = {"raster": (frozen.freeze(hits_of), (sensor, ids, tables)),
+                "camera rays": (frozen.freeze(rays_of), (sensor, tables))}
         times = timed_in_turn([lambda fn=fn, inputs=inputs: fn(*inputs) for fn, inputs in runs.values()], args.repeats)
         refined = int(np.count_nonzero(np.array(runs["raster"][0](*runs["raster"][1])[-1])))
         lines.append(f"{name} ({w}×{h}, {refined} refined pixels, {refined / (w * h):.1%})")

@@ -3,13 +3,14 @@
 On the many-object scene (loaded as the renderer loads it: meshes batched by material,
 ``objects.py``), the camera rays' primary hits are computed once; then ``trace.trace_effects``
 (the shadow, reflection and refraction paths of the selected pixels, with the device-side
-compaction of ``selection.compact``) is frozen with ``dr.freeze`` as the frame's device pass is,
+compaction of ``selection.compact``) is frozen as the frame's device pass is (``frozen.py``: the
+scene's variables, taken once, in the scene's place),
 and called for N = 1, 10, 100 … pixels and for every hit pixel. Per N: the median wall time of a
 call with the backend synchronized once, and its device time (Dr.Jit's kernel history: CUDA events
 on the GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
 the chart draws both. Then, for scale, the replay of a frozen function that does nothing but take
-the scene (``lambda scene, x: x + 1``): the part of any call that is Dr.Jit walking the scene's
-registered objects.
+the scene (``lambda scene, x: x + 1``), given the scene itself (Dr.Jit walks its objects and its
+registry), its variables (``frozen.FrozenScene``) or nothing.
 
     python scripts/trace_overhead.py -o docs/results/cpu/trace_overhead
     python3 scripts/trace_overhead.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/trace_overhead
@@ -69,6 +70,7 @@ def main() -> None:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator.api import rasterizer
+    from hybrid_integrator.frozen import FrozenScene
     from hybrid_integrator.primary import camera_rays, traced_hits
     from hybrid_integrator.raster.context import machine
     from hybrid_integrator.trace import trace_effects
@@ -84,7 +86,7 @@ def main() -> None:
         rt, _, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
         return rt, counts.per_object
 
-    frozen = dr.freeze(call)
+    frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
     seed = dr.opaque(mi.UInt64, 1)
     counts = [n for n in (1, 10, 100, 1000, 10000, 100000) if n < len(order)] + [len(order)]
     masks = {}
@@ -96,7 +98,7 @@ def main() -> None:
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:
-            wall, device = timed(lambda: frozen(scene, hits.ray, hits.si, masks[n], hits.object, seed), args.repeats)
+            wall, device = timed(lambda: frozen(hits.ray, hits.si, masks[n], hits.object, seed), args.repeats)
             rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
         print(sweep, rows, flush=True)
     x = np.array([r["pixels"] for r in rows], dtype=np.float64)
@@ -106,7 +108,9 @@ def main() -> None:
         fits[key] = {"fixed_ms": float(intercept), "ms_per_1000_pixels": float(slope * 1e3)}
     x1 = dr.arange(mi.Float, 10)
     with_scene, without = dr.freeze(lambda scene, x: x + 1), dr.freeze(lambda x: x + 1)
+    with_variables = FrozenScene(scene).freeze(lambda scene, x: x + 1)
     replay = {"with_scene_ms": timed(lambda: with_scene(scene, x1), args.repeats)[0],
+              "with_scene_variables_ms": timed(lambda: with_variables(x1), args.repeats)[0],
               "without_scene_ms": timed(lambda: without(x1), args.repeats)[0]}
     report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
                          f"--repeats {args.repeats}",

@@ -1,12 +1,20 @@
 """freeze=True (dr.freeze replays of the path loop) renders what the unfrozen loop renders, in a
-process with one scene, as the integrator's documentation promises."""
+process with one scene, as the integrator's documentation promises; the frozen functions take the
+scene's variables in the scene's place (frozen.py), taken again when a scene loaded since is
+missing from them, and the scene itself where they cannot serve."""
 from __future__ import annotations
 
 import json
 import subprocess
 import sys
 
-from conftest import DEFAULT_SCENE
+import drjit as dr
+import mitsuba as mi
+import numpy as np
+
+import hybrid_integrator as hi
+from hybrid_integrator.frozen import FrozenScene
+from conftest import DEFAULT_SCENE, ROOT
 
 SCRIPT = f"""
 import json, numpy as np, mitsuba as mi
@@ -30,6 +38,9 @@ for k, cam in enumerate(cams + cams):
     integrator.render_result(scene, seed=k, spp=2, layers=False)
     recordings.append(sum(p.n_recordings for p in hi.api.renderer(scene)._frozen.values()))
 out["recordings"] = recordings
+frozen = hi.api.renderer(scene).frozen
+out["inputs"] = integrator.last_result.stats.frozen_inputs
+out["snapshot"] = [frozen.taken, len(frozen.variables.handles), frozen.variables.visits]
 print(json.dumps(out))
 """
 
@@ -40,6 +51,65 @@ def test_frozen_path_loop_matches_unfrozen():
     out = json.loads(result.stdout.strip().splitlines()[-1])
     recordings = out.pop("recordings")
     assert recordings == [recordings[0]] * len(recordings), recordings
+    # one snapshot of the scene's variables served every frame, each variable once
+    assert out.pop("inputs") == "variables"
+    taken, handles, visits = out.pop("snapshot")
+    assert taken == 1 and 0 < handles < visits
     for (plain_sum, plain_rays), (frozen_sum, frozen_rays) in zip(out["False"], out["True"]):
         assert plain_rays == frozen_rays
         assert abs(plain_sum - frozen_sum) <= 1e-4 * abs(plain_sum)
+
+
+def _shade(scene, x):
+    """Rays into the scene along ``x`` (in [0, 1)) and the BSDF of what they hit: virtual calls
+    over shapes and BSDFs."""
+    ray = mi.Ray3f(mi.Point3f(0, 0, 3.9), dr.normalize(mi.Vector3f(x - 0.5, 0.1, -1)))
+    si = scene.ray_intersect(ray)
+    value = si.bsdf().eval(mi.BSDFContext(), si, si.to_local(dr.normalize(mi.Vector3f(0, 1, 1))), si.is_valid())
+    return dr.select(si.is_valid(), si.t + value.x, 0.0) + x
+
+
+def test_a_scene_loaded_after_the_snapshot_has_it_taken_again():
+    """A frozen function recorded after another scene was loaded meets that scene's instances in
+    its virtual calls, which the first snapshot lacks: it is taken again, once, and the functions
+    compute what the unfrozen code computes."""
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    frozen = FrozenScene(scene)
+    x = dr.arange(mi.Float, 64) / 64
+    first = frozen.freeze(_shade)
+    assert dr.all(first(x) == _shade(scene, x)) and frozen.taken == 1
+    later = hi.load_scene(ROOT / "scenes" / "showcase.xml")
+    second = frozen.freeze(lambda scene, x: _shade(scene, x) * 2.0)
+    for _ in range(3):
+        assert dr.all(second(x) == _shade(scene, x) * 2.0) and dr.all(first(x) == _shade(scene, x))
+    assert frozen.taken == 2 and frozen.inputs == "variables" and later.shapes()
+
+
+def test_a_scene_the_snapshot_cannot_take_is_walked_whole():
+    """A scene variable attached to Dr.Jit's AD graph has no plain handle: the functions take the
+    scene itself (counted as ``scene``) and still compute what the unfrozen code computes."""
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    params = mi.traverse(scene)
+    dr.enable_grad(params["greenwall.bsdf.reflectance.value"])
+    params.update()
+    frozen = FrozenScene(scene)
+    shade = frozen.freeze(_shade)
+    x = dr.arange(mi.Float, 64) / 64
+    for _ in range(3):
+        assert dr.allclose(shade(x), _shade(scene, x))
+    assert frozen.inputs == "scene" and frozen.variables is None
+
+
+def test_an_edited_scene_renders_its_edit_once_forgotten():
+    """The snapshot keeps the variables it was taken from: after an edit through ``mi.traverse``,
+    ``hi.forget`` makes the next frame take the edited scene (frozen as unfrozen)."""
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    kw = dict(spp=1, seed=2, denoise=False)
+    before = np.array(hi.render(scene, **kw).image)
+    params = mi.traverse(scene)
+    params["redwall.bsdf.reflectance.value"] = mi.Color3f(0.1, 0.1, 0.9)
+    params.update()
+    hi.forget(scene)
+    after = np.array(hi.render(scene, **kw).image)
+    plain = np.array(hi.render(scene, freeze=False, **kw).image)
+    assert np.abs(after - before).mean() > 1e-3 and np.allclose(after, plain, rtol=1e-4, atol=1e-5)

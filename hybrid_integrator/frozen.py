@@ -1,0 +1,196 @@
+"""Frozen functions of a scene that take the scene's Dr.Jit variables, not the scene (issue 10).
+
+The device pass (``pipeline.device_pass``) is recorded once with ``dr.freeze`` and replayed in
+later frames. On every call, Dr.Jit 1.5's frozen function walks its inputs to find the variables
+its recording reads, and walks them again after the replay to assign its inputs back. Given the
+``mi.Scene``, each walk visits every object through every path that reaches it (a BSDF once per
+shape that uses it, an emitter through its shape and through the scene's list) and, since the
+scene holds arrays of shape, emitter and sensor pointers, every registered instance of those
+classes once more (``FlatVariables::traverse_with_registry``: a virtual call is recorded for
+every registered instance, so their members are inputs too). The 226-object scene, batched into
+18 shapes, holds 348 distinct variables and is visited 2351 times per walk, plus its registry:
+the replay of a function that does nothing with the scene took 0.57-0.71 ms on an H200's host,
+against 0.17-0.20 ms given the same variables as a flat tuple (``scripts/trace_overhead.py``'s
+``frozen_replay``, four processes; docs/results, issue 10, stop 30).
+
+:class:`FrozenScene` takes those variables once: the scene's and every registered instance's of
+the classes the scene points to, each once, as plain ``UInt32`` handles (Dr.Jit reads only their
+indices; no pointer array among them, so no registry walk). Its frozen functions are called with
+that tuple where the scene was, and read the scene itself from their binding: the same recording,
+the same kernels, a fraction of the walk. (A pointer array among a function's other inputs, such
+as a ``SurfaceInteraction3f``'s ``shape``, brings the registry walk back: the device pass takes
+none.)
+
+The handles are a snapshot. They keep the variables they were taken from, so an edit of the scene
+through ``mi.traverse`` (which gives the edited objects new variables) is not seen by a replay:
+after editing anything but the sensor, which stays a real input, call ``hi.forget(scene)`` (as
+for the raster's geometry and the lights' table). An instance registered after the snapshot (a
+scene loaded later in the same process) is missing from it when a function records again; Dr.Jit
+says so, and the variables are taken again once. Where the snapshot cannot serve (an
+AD-attached scene variable, a Python plugin with Dr.Jit members outside Mitsuba's traversal, a
+second failure), the functions take the scene itself and Dr.Jit walks it on every call: counted
+in ``FrameStats.frozen_inputs`` as ``scene``.
+"""
+from __future__ import annotations
+
+import contextlib
+import gc
+import itertools
+from dataclasses import dataclass
+
+import drjit as dr
+import mitsuba as mi
+
+#: what Dr.Jit's recording says when one of its inputs is missing: a variable read but not found
+#: among them, or a virtual call over instances whose members none of them holds
+_MISSING = ("not specified as an input variable", "traversal was skipped")
+
+
+@dataclass(frozen=True)
+class SceneVariables:
+    """The distinct Dr.Jit variables of a scene and of the registered instances it points to."""
+
+    handles: tuple  # one ``mi.UInt32`` per variable (of any type: the frozen function reads its index)
+    visits: int  # what one walk of Dr.Jit's visits for the same objects (with repeats)
+    domains: tuple[str, ...]  # the classes whose registered instances are in (Shape, Emitter, ...)
+
+
+def scene_variables(scene: mi.Scene) -> SceneVariables | None:
+    """The snapshot :class:`FrozenScene` passes for ``scene``, or ``None`` where it cannot be
+    taken (a variable attached to Dr.Jit's AD graph, a class without a pointer type)."""
+    indices: list[int] = []
+    domains: list[str] = []
+
+    def visit(index: int, variant: str, domain: str) -> None:
+        indices.append(index)
+        if domain and domain not in domains:
+            domains.append(domain)
+
+    walked: set[int] = set()
+    with dr.scoped_set_flag(dr.JitFlag.EnableObjectTraversal, True):
+        scene._traverse_1_cb_ro(visit)
+        for domain in domains:  # grows while instances point to other classes
+            instances = _registered(domain)
+            if instances is None:
+                return None
+            for instance in instances:
+                if instance is not None and id(instance) not in walked:
+                    walked.add(id(instance))
+                    instance._traverse_1_cb_ro(visit)
+    if any(index >> 32 for index in indices):
+        return None
+    distinct = [index for index in dict.fromkeys(indices) if index]  # 0: an unset member
+    handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(distinct), distinct))
+    return SceneVariables(handles=handles, visits=len(indices), domains=tuple(domains))
+
+
+def _registered(domain: str) -> list | None:
+    """Every instance registered with Dr.Jit in the class ``domain`` of this variant (``None``
+    entries for freed ids), by id from 1 until the registry has no such id; ``None`` if Mitsuba
+    has no pointer array for the class."""
+    pointers = getattr(mi, f"{domain}Ptr", None)
+    if pointers is None:
+        return None
+    instances = []
+    for instance_id in itertools.count(1):
+        try:
+            instances.append(dr.reinterpret_array(pointers, mi.UInt32(instance_id))[0])
+        except RuntimeError:  # past the last id the registry has held
+            return instances
+
+
+class _Bound:
+    """``fn(scene, *args)`` called with the snapshot, or with the scene, in the scene's place: the
+    methods that ``dr.freeze`` wraps (it walks the arguments and the globals a function names, not
+    a bound method's ``self``)."""
+
+    def __init__(self, scene: mi.Scene, fn):
+        self.scene, self.fn = scene, fn
+
+    def snapshot(self, variables: tuple, *args):
+        return self.fn(self.scene, *args)
+
+    def whole(self, scene: mi.Scene, *args):
+        return self.fn(scene, *args)
+
+
+class FrozenScene:
+    """The frozen functions of one scene and the one snapshot of its variables they share."""
+
+    def __init__(self, scene: mi.Scene):
+        self.scene = scene
+        self.variables: SceneVariables | None = None
+        self.taken = 0  # snapshots taken (a second one: an instance registered since the first)
+        self.whole = False  # the snapshot cannot serve: every function takes the scene itself
+
+    @property
+    def inputs(self) -> str:
+        """What the functions take for the scene now: ``variables`` or ``scene``."""
+        return "scene" if self.whole else "variables"
+
+    def freeze(self, fn) -> "FrozenFunction":
+        """``fn(scene, *args)`` frozen, called as ``frozen(*args)`` (:class:`FrozenFunction`)."""
+        return FrozenFunction(self, fn)
+
+    def snapshot(self) -> SceneVariables | None:
+        """The snapshot to pass, taken if there is none; ``None`` once it cannot serve."""
+        if self.variables is None and not self.whole:
+            self.variables, self.taken = scene_variables(self.scene), self.taken + 1
+            self.whole = self.variables is None
+        return self.variables
+
+    def missed(self) -> None:
+        """A recording missed an input of the snapshot: the first time, take it again (an
+        instance registered since); the second, give up on it."""
+        self.variables, self.whole = None, self.taken > 1
+
+
+class FrozenFunction:
+    """One frozen function of a :class:`FrozenScene`: it replays with the snapshot in the
+    scene's place, and with the scene itself once the snapshot cannot serve."""
+
+    def __init__(self, owner: FrozenScene, fn):
+        bound = _Bound(owner.scene, fn)
+        self.owner = owner
+        self.by_snapshot, self.by_scene = dr.freeze(bound.snapshot), dr.freeze(bound.whole)
+
+    def __call__(self, *args):
+        while (variables := self.owner.snapshot()) is not None:
+            try:
+                with _collection_paused():
+                    return self.by_snapshot(variables.handles, *args)
+            except RuntimeError as error:
+                if not _missing_input(error):
+                    raise
+            self.owner.missed()
+        with _collection_paused():
+            return self.by_scene(self.owner.scene, *args)
+
+    @property
+    def n_recordings(self) -> int:
+        return self.by_snapshot.n_recordings + self.by_scene.n_recordings
+
+
+@contextlib.contextmanager
+def _collection_paused():
+    """Python's cyclic garbage collector off for a frozen call: run while Dr.Jit records, it can
+    free a variable whose release is a host callback (such as NumPy memory Dr.Jit maps), which a
+    recording cannot hold, and Dr.Jit aborts the process ("enqueue_host_func(): this function
+    cannot be recorded"; seen in the test suite once recordings that miss an input, and are
+    retried, left garbage behind). Garbage is collected after the call instead."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def _missing_input(error: BaseException) -> bool:
+    """Whether ``error`` (or one it was raised from) is Dr.Jit's recording missing an input."""
+    while error is not None:
+        if any(text in str(error) for text in _MISSING):
+            return True
+        error = error.__cause__
+    return False
