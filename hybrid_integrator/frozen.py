@@ -44,6 +44,7 @@ import mitsuba as mi
 #: what Dr.Jit's recording says when one of its inputs is missing: a variable read but not found
 #: among them, or a virtual call over instances whose members none of them holds
 _MISSING = ("not specified as an input variable", "traversal was skipped")
+_NO_ID = 2**31 - 1  # an instance id no registry reaches
 
 
 @dataclass(frozen=True)
@@ -87,14 +88,24 @@ def scene_variables(scene: mi.Scene) -> SceneVariables | None:
 def _registered(domain: str) -> list | None:
     """Every instance registered with Dr.Jit in the class ``domain`` of this variant (``None``
     entries for freed ids), by id from 1 until the registry has no such id; ``None`` if Mitsuba
-    has no pointer array for the class."""
+    has no pointer array for the class. (Dr.Jit looks an id up as null where the class never had
+    an instance, and raises past the last id it has held where it had.)"""
     pointers = getattr(mi, f"{domain}Ptr", None)
     if pointers is None:
         return None
+
+    def lookup(instance_id: int):
+        return dr.reinterpret_array(pointers, mi.UInt32(instance_id))[0]
+
+    try:
+        lookup(_NO_ID)
+        return []  # no instance of the class was ever registered
+    except RuntimeError:
+        pass
     instances = []
     for instance_id in itertools.count(1):
         try:
-            instances.append(dr.reinterpret_array(pointers, mi.UInt32(instance_id))[0])
+            instances.append(lookup(instance_id))
         except RuntimeError:  # past the last id the registry has held
             return instances
 

@@ -113,3 +113,20 @@ def test_an_edited_scene_renders_its_edit_once_forgotten():
     after = np.array(hi.render(scene, **kw).image)
     plain = np.array(hi.render(scene, freeze=False, **kw).image)
     assert np.abs(after - before).mean() > 1e-3 and np.allclose(after, plain, rtol=1e-4, atol=1e-5)
+
+
+def test_a_class_without_instances_ends_the_snapshot():
+    """In a fresh process whose scene has no sensor or emitter, those classes have no registered
+    instance: Dr.Jit looks every id up as null there (a lookup by id would never end), and the
+    snapshot takes none of them."""
+    code = ("import drjit as dr, mitsuba as mi; mi.set_variant('llvm_ad_rgb')\n"
+            "from hybrid_integrator.frozen import FrozenScene\n"
+            "scene = mi.load_dict({'type': 'scene', 's': {'type': 'sphere'}})\n"
+            "frozen = FrozenScene(scene)\n"
+            "f = frozen.freeze(lambda scene, x: x + scene.ray_intersect(mi.Ray3f(mi.Point3f(0, 0, 5), mi.Vector3f(0, 0, -1))).t)\n"
+            "x = dr.arange(mi.Float, 4)\n"
+            "print([float(v) for v in f(x)], [float(v) for v in f(x)], frozen.inputs)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    line = done.stdout.strip().splitlines()[-1]
+    assert line.startswith("[4.0, 5.0, 6.0, 7.0] [4.0, 5.0, 6.0, 7.0] variables"), line
