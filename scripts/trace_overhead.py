@@ -4,7 +4,8 @@ On the many-object scene (loaded as the renderer loads it: meshes batched by mat
 ``objects.py``), the camera rays' primary hits are computed once; then ``trace.trace_effects``
 (the shadow, reflection and refraction paths of the selected pixels, with the device-side
 compaction of ``selection.compact``) is frozen as the frame's device pass is (``frozen.py``: the
-scene's variables, taken once, in the scene's place),
+scene's variables, taken once, in the scene's place; the hits' shape pointers passed as ids, as
+the device pass, which computes its hits itself, takes no pointer array),
 and called for N = 1, 10, 100 … pixels and for every hit pixel. Per N: the median wall time of a
 call with the backend synchronized once, and its device time (Dr.Jit's kernel history: CUDA events
 on the GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
@@ -82,7 +83,17 @@ def main() -> None:
     order = np.nonzero(np.array(hits.valid))[0]
     effects = ("shadow", "reflection", "refraction")
 
-    def call(scene, ray, si, traced, obj, seed):
+    # the hits without their pointer fields, which travel as ids: in a frame the trace runs inside
+    # the device pass, whose inputs hold no pointer array (one among a frozen function's inputs
+    # makes Dr.Jit 1.5 walk every registered instance of its class on each call: frozen.py)
+    pointers = ("shape", "instance")
+    fields = {k: getattr(hits.si, k) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT if k not in pointers}
+    ids = [dr.reinterpret_array(mi.UInt32, getattr(hits.si, k)) for k in pointers]
+
+    def call(scene, ray, fields, ids, traced, obj, seed):
+        si = mi.SurfaceInteraction3f()
+        for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
+            setattr(si, k, v)
         rt, _, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
         return rt, counts.per_object
 
@@ -98,7 +109,7 @@ def main() -> None:
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:
-            wall, device = timed(lambda: frozen(hits.ray, hits.si, masks[n], hits.object, seed), args.repeats)
+            wall, device = timed(lambda: frozen(hits.ray, fields, ids, masks[n], hits.object, seed), args.repeats)
             rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
         print(sweep, rows, flush=True)
     x = np.array([r["pixels"] for r in rows], dtype=np.float64)
