@@ -14,7 +14,8 @@ against 0.17-0.20 ms given the same variables as a flat tuple (``scripts/trace_o
 ``frozen_replay``, four processes; docs/results, issue 10, stop 30).
 
 :class:`FrozenScene` takes those variables once: the scene's and every registered instance's of
-the classes the scene points to, each once, as plain ``UInt32`` handles (Dr.Jit reads only their
+the classes the scene points to (but the sensor's: the sensor stays an input of every call, since
+a camera moves), each once, as plain ``UInt32`` handles (Dr.Jit reads only their
 indices; no pointer array among them, so no registry walk). Its frozen functions are called with
 that tuple where the scene was, and read the scene itself from their binding: the same recording,
 the same kernels, a fraction of the walk. (A pointer array among a function's other inputs, such
@@ -45,6 +46,10 @@ import mitsuba as mi
 #: among them, or a virtual call over instances whose members none of them holds
 _MISSING = ("not specified as an input variable", "traversal was skipped")
 _NO_ID = 2**31 - 1  # an instance id no registry reaches
+#: the class whose instance the frozen functions take as an input of its own (the sensor): its
+#: registered instances are not walked (the device pass calls the sensor it is given, no virtual
+#: call over sensors)
+_PASSED = "Sensor"
 
 
 @dataclass(frozen=True)
@@ -68,19 +73,26 @@ def scene_variables(scene: mi.Scene) -> SceneVariables | None:
             domains.append(domain)
 
     walked: set[int] = set()
+    sensor_variables: list[int] = []
     with dr.scoped_set_flag(dr.JitFlag.EnableObjectTraversal, True):
         scene._traverse_1_cb_ro(visit)
         for domain in domains:  # grows while instances point to other classes
-            instances = _registered(domain)
+            instances = [] if domain == _PASSED else _registered(domain)
             if instances is None:
                 return None
             for instance in instances:
                 if instance is not None and id(instance) not in walked:
                     walked.add(id(instance))
                     instance._traverse_1_cb_ro(visit)
+        for sensor in scene.sensors():
+            sensor._traverse_1_cb_ro(lambda index, *_: sensor_variables.append(index))
     if any(index >> 32 for index in indices):
         return None
-    distinct = [index for index in dict.fromkeys(indices) if index]  # 0: an unset member
+    # 0: an unset member; a sensor's variables come with the sensor the function takes each call
+    # (in the snapshot too, they would alias its variables until a camera change replaced them,
+    # and the inputs' layout would change: one more recording)
+    passed = set(sensor_variables)
+    distinct = [index for index in dict.fromkeys(indices) if index and index not in passed]
     handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(distinct), distinct))
     return SceneVariables(handles=handles, visits=len(indices), domains=tuple(domains))
 

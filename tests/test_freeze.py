@@ -130,3 +130,21 @@ def test_a_class_without_instances_ends_the_snapshot():
     assert done.returncode == 0, done.stderr[-2000:]
     line = done.stdout.strip().splitlines()[-1]
     assert line.startswith("[4.0, 5.0, 6.0, 7.0] [4.0, 5.0, 6.0, 7.0] variables"), line
+
+
+def test_a_moved_camera_records_nothing_more():
+    """The sensor is an input of every call, not part of the snapshot: moving it after the first
+    frames (``params.update()`` gives it new variables) replays what they recorded. (In the
+    snapshot too, its variables aliased the sensor's until the move, which changed the inputs'
+    layout: one more recording.)"""
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    for seed in range(3):
+        hi.render(scene, spp=1, seed=seed, denoise=False)
+    renderer = hi.api.renderer(scene)
+    before = sum(f.n_recordings for f in renderer._frozen.values())
+    params = mi.traverse(scene.sensors()[0])
+    params["to_world"] = mi.ScalarTransform4f().look_at(origin=(0.3, 0.2, 3.8), target=(0, 0, 0), up=(0, 1, 0))
+    params.update()
+    for seed in range(3):
+        hi.render(scene, spp=1, seed=seed, denoise=False)
+    assert sum(f.n_recordings for f in renderer._frozen.values()) == before
