@@ -8,8 +8,8 @@ shape that uses it, an emitter through its shape and through the scene's list) a
 scene holds arrays of shape, emitter and sensor pointers, every registered instance of those
 classes once more (``FlatVariables::traverse_with_registry``: a virtual call is recorded for
 every registered instance, so their members are inputs too). The 226-object scene, batched into
-18 shapes, holds 348 distinct variables and is visited 2351 times per walk, plus its registry:
-the replay of a function that does nothing with the scene took 0.57-0.71 ms on an H200's host,
+18 shapes, is visited 3441 times per walk, registry included, for 269 distinct variables besides
+the sensor's (``SceneVariables.visits`` and its handles; docs/results, issue 10, stop 30): the replay of a function that does nothing with the scene took 0.57-0.71 ms on an H200's host,
 against 0.17-0.20 ms given the same variables as a flat tuple (``scripts/trace_overhead.py``'s
 ``frozen_replay``, four processes; docs/results, issue 10, stop 30).
 
@@ -58,7 +58,6 @@ class SceneVariables:
 
     handles: tuple  # one ``mi.UInt32`` per variable (of any type: the frozen function reads its index)
     visits: int  # what one walk of Dr.Jit's visits for the same objects (with repeats)
-    domains: tuple[str, ...]  # the classes whose registered instances are in (Shape, Emitter, ...)
 
 
 def scene_variables(scene: mi.Scene) -> SceneVariables | None:
@@ -94,7 +93,7 @@ def scene_variables(scene: mi.Scene) -> SceneVariables | None:
     passed = set(sensor_variables)
     distinct = [index for index in dict.fromkeys(indices) if index and index not in passed]
     handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(distinct), distinct))
-    return SceneVariables(handles=handles, visits=len(indices), domains=tuple(domains))
+    return SceneVariables(handles=handles, visits=len(indices))
 
 
 def _registered(domain: str) -> list | None:
