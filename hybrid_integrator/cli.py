@@ -52,13 +52,11 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
                    help="add each object's ambient light learnt from its traced pixels to the raster layer (default: on)")
     g.add_argument("--shadow-tier", dest="shadow_tier", action=argparse.BooleanOptionalAction, default=None,
                    help="with a budget, diffuse objects may be traced by their shadow rays alone (default: on)")
-    g.add_argument("--raster-ahead", dest="raster_ahead", action=argparse.BooleanOptionalAction, default=None,
-                   help="with a still camera, draw the next frame's visibility buffer while the GPU traces this one (default: on)")
 
 
 def _properties(args) -> dict:
     names = ("primary", "raster", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
-             "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead")
+             "denoise_quality", "learn_ambient", "shadow_tier")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 
 

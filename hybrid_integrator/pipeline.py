@@ -64,7 +64,7 @@ from .trace import RAY_KINDS, trace_effects
 PRIMARY_SOURCES = ("raster", "raytrace")
 STAGES = ("raster", "lighting", "select", "trace", "compose", "temporal", "denoise")
 SHADOW_ONLY = ("shadow",)  # the effect set of a shadow tier (heuristic.candidates)
-HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "ahead", "readback", "timing")
+HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
 
 
 @dataclass(frozen=True)
@@ -90,7 +90,6 @@ class HybridSettings:
     secondary_spp: int = 1
     learn_ambient: bool = True
     shadow_tier: bool = True
-    raster_ahead: bool = True
 
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
@@ -123,8 +122,6 @@ class HybridSettings:
             raise HybridError(f"max_depth={self.max_depth} must be -1 (unlimited) or >= 0")
         if self.rr_depth < 1:
             raise HybridError(f"rr_depth={self.rr_depth} must be >= 1")
-        if not isinstance(self.raster_ahead, bool):
-            raise HybridError(f"raster_ahead={self.raster_ahead!r} must be true or false")
         if self.secondary_spp < 1:
             raise HybridError(f"secondary_spp={self.secondary_spp} must be >= 1 (paths traced from each primary hit)")
 
@@ -148,11 +145,6 @@ class FrameStats:
     edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
-    #: sample passes whose visibility buffer the previous frame drew ahead (``raster_ahead``), and
-    #: passes it drew ahead for this frame that this frame could not use (another camera, sub-pixel
-    #: offsets or settings): drawn for nothing
-    raster_ahead: int = 0
-    raster_discarded: int = 0
     raster_method: str = ""  # the raster pass that made it: draw or compute (raster/visibility.py)
     fallback: str = ""  # what the frame did instead of the hybrid pipeline, and why ("": nothing)
     #: what the frozen device pass took for the scene (frozen.py): ``variables``, the snapshot of
@@ -164,8 +156,7 @@ class FrameStats:
     predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
     #: host time (ms) by phase: frame set-up, selection, the raster pass and its interop copy, the
     #: device pass (a frozen replay: Dr.Jit walks its inputs, the scene's variables among them,
-    #: then launches), film development, post-processing, the next frame's raster pass drawn ahead
-    #: (``ahead``: while the GPU traces this frame), the statistics and what the next frame
+    #: then launches), film development, post-processing, the statistics and what the next frame
     #: learns from them (``readback``: on the GPU while it develops and denoises the frame), and ``timing``:
     #: reading Dr.Jit's kernel history for the stage times (profiling, not counted in ``total``)
     host_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(HOST_PHASES, 0.0))
@@ -305,26 +296,6 @@ class PassStatic:
     #: the long paths over them (the Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms
     #: long paths first)
     long_first: bool = False
-
-
-@dataclass
-class VisibilityPass:
-    """Stage 1 of one sample pass, as OpenGL left it: the target holding its visibility buffer
-    (held by the rasterizer until the frame is done with it, ``Rasterizer.render``) and the timer
-    query of its draw (None: not timed)."""
-
-    fbo: object  # moderngl.Framebuffer
-    query: object = None  # moderngl.Query
-
-
-@dataclass
-class DrawnAhead:
-    """A frame's sample passes drawn by the frame before it, for the camera and sub-pixel offsets
-    it expected (:meth:`HybridRenderer.render`)."""
-
-    camera: RasterCamera
-    offsets: tuple[tuple[float, float], ...]
-    passes: list[VisibilityPass]
 
 
 @dataclass
@@ -489,7 +460,6 @@ class _Frame:
     indirect: mi.Float | None = None  # the learnt indirect table of its shadow tiers
     tiers: np.ndarray | None = None  # per object: it has a shadow tier (heuristic.candidates)
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
-    queries: list = field(default_factory=list)  # the GL timer queries of its sample passes' draws
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
 
@@ -528,12 +498,7 @@ class HybridRenderer:
         # settings (a pass without the denoiser's guides for one with them)
         self.frozen = FrozenScene(scene)
         self._frozen: dict[PassStatic, FrozenFunction] = {}
-        self._gl_queries: list = []  # timer queries no draw holds (each frame's are read after it)
-        #: per frame set-up (``_Frame.setup``): the next frame's passes drawn ahead, and the camera of
-        #: the last frame, whose next frame is expected to keep it (a still camera)
-        self._ahead: dict[tuple, DrawnAhead] = {}
-        self._cameras: dict[tuple, RasterCamera] = {}
-        self._own: list = []  # the targets the last frame's passes hold
+        self._gl_queries: list = []
         self._setups: dict = {}
         self._denoisers: dict[str, Denoiser] = {}
         self._accumulators: dict[bool, Accumulator] = {}
@@ -558,9 +523,8 @@ class HybridRenderer:
             clock.lap("setup")
             # every pass's visibility buffer first (1): OpenGL draws while the host sets up and
             # plans the frame (a budget's selection: 0.3-0.4 ms on the H100's host), and OpenGL's and CUDA's work
-            # take turns on the GPU, so a draw issued after a pass's device work would wait for all of it;
-            # or the last frame drew them already, while its GPU traced
-            ids = self._visibility(settings, frame, offsets, clock)
+            # take turns on the GPU, so a draw issued after a pass's device work would wait for all of it
+            ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
             tables = [t if settings.learn_ambient else t[:0] for t in (state.ambient, state.indirect)]
             frame.ambient, frame.indirect = (device_array(mi.Float, ambient_table(t, len(self.objects)).ravel())
                                                  for t in tables)
@@ -584,9 +548,6 @@ class HybridRenderer:
             # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
             # generator) now too, not before the next frame's raster pass: the same numbers
             self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
-            # and, for a still camera, the next frame's raster pass itself (OpenGL's draw alone)
-            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1])
-            clock.lap("ahead")
             # the counts, then what the next frame learns from them: on the GPU while it develops
             # and denoises this frame (the counts' copy waits for the device passes alone)
             words = self._counts.wait() if self._counts else [np.array(o.counts) for o in outputs]
@@ -725,80 +686,29 @@ class HybridRenderer:
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
               clock: "_HostClock | None" = None) -> PassOutput:
-        """One sample pass (a probe): the visibility buffer (stage 1, OpenGL; not timed), then the
-        device pass."""
+        """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
         clock = clock or _HostClock()
-        if settings.primary == "raster":
-            triangle_id = self.raster.device_ids(self._draw(settings, frame.camera, offset, timed=False).fbo)
-        else:
-            triangle_id = dr.zeros(mi.UInt32, frame.camera.width * frame.camera.height)
+        triangle_id = self._visibility(settings, frame, sample, offset, clock, timed=False)
         return self._device(settings, frame, config, seed, sample, offset, triangle_id, clock)
 
-    def _draw(self, settings: HybridSettings, camera: RasterCamera, offset, timed: bool = True,
-              hold: bool = False) -> VisibilityPass:
-        """Stage 1's OpenGL part of one sample pass: its visibility buffer drawn, timed by a GL
-        timer query unless not ``timed`` (a probe), its target held if ``hold``."""
-        query = (self._gl_queries.pop() if self._gl_queries else self.raster.ctx.query(time=True)) if timed else None
-        with query or contextlib.nullcontext():  # the draw alone: the query's end waits for nothing of CUDA's
-            fbo = self.raster.render(camera, offset, settings.raster, hold=hold)
-        gl_flush()  # the draw and the query's end to the GPU now
-        return VisibilityPass(fbo=fbo, query=query)
-
-    def _visibility(self, settings: HybridSettings, frame: _Frame, offsets, clock: "_HostClock") -> list[mi.UInt32]:
-        """Stage 1 of the frame's sample passes: each visibility buffer drawn by OpenGL and copied
-        into a Dr.Jit array (camera rays need none: zeros). The last frame drew them already if it
-        expected this frame's camera and offsets (:meth:`_draw_ahead`); drawn for another frame,
-        they are given up and drawn again (``FrameStats.raster_discarded``)."""
-        for fbo in self._own:  # the last frame's targets, which it held until now
-            self.raster.drop(fbo)
-        self._own = []
+    def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock",
+                    timed: bool = True) -> mi.UInt32:
+        """Stage 1 of one sample pass: the visibility buffer drawn by OpenGL, as a Dr.Jit array
+        (camera rays need none: zeros). ``timed``: the draw's GL time is the frame's (a timer
+        query per sample pass; a probe's draw is not timed)."""
         camera = frame.camera
-        if settings.primary != "raster":
-            clock.lap("raster")
-            return [dr.zeros(mi.UInt32, camera.width * camera.height) for _ in offsets]
-        ahead = self._ahead.pop(frame.setup, None)
-        if ahead is not None and ahead.camera is camera and ahead.offsets == tuple(offsets):
-            passes = ahead.passes
-            frame.stats.raster_ahead = len(passes)
+        if settings.primary == "raster":
+            if timed and len(self._gl_queries) <= sample:
+                self._gl_queries.append(self.raster.ctx.query(time=True))
+            # the draw alone: the query's end waits for nothing of CUDA's
+            with self._gl_queries[sample] if timed else contextlib.nullcontext():
+                fbo = self.raster.render(camera, offset, settings.raster)
+            gl_flush()  # the draw and the query's end to the GPU now
+            triangle_id = self.raster.device_ids(fbo)
         else:
-            if ahead is not None:
-                self._give_up(ahead)
-                frame.stats.raster_discarded = len(ahead.passes)
-            # each target held until the frame is done, so that a later draw (the next pass's, a
-            # probe's, the next frame's ahead) goes elsewhere
-            passes = [self._draw(settings, camera, offset, hold=True) for offset in offsets]
-        self._own = [p.fbo for p in passes]
-        frame.queries = [p.query for p in passes]
-        ids = [self.raster.device_ids(p.fbo) for p in passes]
+            triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
         clock.lap("raster")
-        return ids
-
-    def _draw_ahead(self, settings: HybridSettings, frame: _Frame, offsets) -> None:
-        """The next frame's stage 1 drawn now, while the GPU traces this frame, where it can be
-        foreseen: a camera that this frame kept from the last one (a still view) and the next
-        seed's ``offsets``. The next frame then starts with its interop copy: the draw's host
-        issue (~0.3 ms on the H200's host) and its GPU time leave its critical path, which the raster
-        primaries otherwise lengthen over camera rays. A frame whose camera moved draws nothing
-        ahead (a camera path would discard every draw); a next frame that does not match gives
-        the draw up (:meth:`_visibility`). ``raster_ahead=false``: off (``scripts/raster_ahead.py``
-        measures both)."""
-        camera, setup = frame.camera, frame.setup
-        still = self._cameras.get(setup) is camera
-        self._cameras[setup] = camera
-        if not (settings.primary == "raster" and settings.raster_ahead and still):
-            return
-        if setup in self._ahead:  # drawn for a frame that has not come (another set-up rendered since)
-            self._give_up(self._ahead.pop(setup))
-        while len(self._ahead) >= _AHEAD_KEPT:  # the oldest first: a set-up not rendered again
-            self._give_up(self._ahead.pop(next(iter(self._ahead))))
-        self._ahead[setup] = DrawnAhead(camera=camera, offsets=tuple(offsets),
-                                        passes=[self._draw(settings, camera, offset, hold=True) for offset in offsets])
-
-    def _give_up(self, ahead: DrawnAhead) -> None:
-        """Passes drawn ahead for a frame that did not come: their targets and queries back."""
-        for p in ahead.passes:
-            self.raster.drop(p.fbo)
-            self._gl_queries.append(p.query)
+        return triangle_id
 
     def _device(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
                 triangle_id: mi.UInt32, clock: "_HostClock") -> PassOutput:
@@ -918,8 +828,7 @@ class HybridRenderer:
         if frame.denoiser is not None:
             stats.times_ms["denoise"] = frame.denoiser.elapsed_ms()
         if settings.primary == "raster":
-            stats.times_ms["gl"] = sum(q.elapsed for q in frame.queries) * 1e-6
-            self._gl_queries.extend(frame.queries)
+            stats.times_ms["gl"] = sum(q.elapsed for q in self._gl_queries[:frame.stats.spp]) * 1e-6
             stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")
         if learnt is not None:
@@ -949,10 +858,6 @@ class _HostClock:
 
     def elapsed(self) -> float:
         return (self.last - self.start) * 1e3
-
-
-#: set-ups whose next frame's passes drawn ahead are kept at once (the oldest given up first)
-_AHEAD_KEPT = 2
 
 
 def sum_tensors(tensors: list):

@@ -22,7 +22,6 @@
         <integer name="secondary_spp" value="1"/>      <!-- paths traced from each primary hit -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
         <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
-        <boolean name="raster_ahead" value="true"/>    <!-- a still view: next frame's raster drawn ahead -->
     </integrator>
 
 Properties
@@ -89,13 +88,6 @@ Properties
                  whole, at a fraction of the cost; chosen like an object, by the error it was
                  measured to remove (``hybrid_integrator/heuristic.py``; default on;
                  ``stats.shadow_only`` lists the objects so traced).
-``raster_ahead`` with a still camera (a frame whose camera is the previous frame's), draw the next
-                 frame's visibility buffer (the next seed's sub-pixel offsets) while the GPU traces
-                 this one, so that the next frame's GPU work starts with its interop copy instead
-                 of waiting for its draw (``hybrid_integrator/pipeline.py``, ``_draw_ahead``). A
-                 next frame that does not match (another camera, offsets or settings) draws again and
-                 counts the draw given up in ``stats.raster_discarded``; ``stats.raster_ahead``
-                 counts the passes a frame got drawn ahead. A moving camera draws nothing ahead.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the

@@ -1,5 +1,5 @@
-"""Objects inside a scene batched by material (objects.py), the device-side compaction, the
-frozen device pass where the scene has no table lights, and the raster pass drawn ahead (issue 10)."""
+"""Objects inside a scene batched by material (objects.py), the device-side compaction, and the
+frozen device pass where the scene has no table lights (issue 10)."""
 from __future__ import annotations
 
 import mitsuba as mi
@@ -8,7 +8,6 @@ import pytest
 
 import hybrid_integrator as hi
 from hybrid_integrator.objects import MERGE_PREFIX
-from hybrid_integrator.raster.camera import sensor_to_world
 from hybrid_integrator.selection import compact
 from conftest import DEFAULT_SCENE, ROOT, load
 
@@ -63,64 +62,6 @@ def test_an_object_inside_a_merged_mesh_can_be_the_only_candidate():
     assert traced.sum() > 0 and np.mean(mine[traced]) > 0.9  # the traced layer is filtered: its edges blur
 
 
-def _images(frames) -> list[np.ndarray]:
-    return [np.array(f.image) for f in frames]
-
-
-def _same(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
-    """Equal frames but for the last bits of the CPU backend's atomic sums (see above)."""
-    return len(a) == len(b) and all(np.abs(x - y).max() <= 1e-6 for x, y in zip(a, b))
-
-
-def test_a_still_view_draws_the_next_raster_pass_ahead():
-    """With a still camera a frame draws the next frame's visibility buffers (the next seed's
-    offsets) while the GPU traces (``HybridRenderer._draw_ahead``): from the third frame on (the
-    second is the first that kept its camera) every pass was drawn ahead, timed, and the frames
-    are those drawn in their own frame."""
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    camera = sensor_to_world(scene.sensors()[0])
-    props = dict(spp=2, seed=3, denoise=False, learn_ambient=False)
-    ahead = hi.render_sequence(scene, [camera] * 4, **props)
-    plain = hi.render_sequence(scene, [camera] * 4, raster_ahead=False, **props)
-    assert [f.stats.raster_ahead for f in ahead] == [0, 0, 2, 2]
-    assert [f.stats.raster_ahead + f.stats.raster_discarded for f in plain] == [0] * 4
-    assert all(f.stats.times_ms["gl"] > 0 and f.stats.host_ms["ahead"] > 0 for f in ahead[2:])
-    assert _same(_images(ahead), _images(plain)) and _images(ahead)[-1].mean() > 0
-
-
-def test_a_moved_camera_gives_the_draw_ahead_up():
-    """A moving camera draws nothing ahead; a camera that moves after a still view gives up what
-    was drawn for it (counted) and shows its own view, as a frame that never drew ahead."""
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    path = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.4), (0.1, -0.2, 0))], 4)
-    moving = hi.render_sequence(scene, path, spp=1, denoise=False)
-    assert [f.stats.raster_ahead + f.stats.raster_discarded for f in moving] == [0] * 4
-    cameras = [path[0]] * 3 + [path[-1]]
-    props = dict(spp=1, seed=7, denoise=False, learn_ambient=False)
-    moved = hi.render_sequence(scene, cameras, **props)  # (the first frame may give up a draw of another test's)
-    assert moved[0].stats.raster_ahead == 0
-    assert [(f.stats.raster_ahead, f.stats.raster_discarded) for f in moved[1:]] == [(0, 0), (1, 0), (0, 1)]
-    assert _same(_images(moved), _images(hi.render_sequence(scene, cameras, raster_ahead=False, **props)))
-
-
-def test_passes_drawn_ahead_survive_other_frames_in_between():
-    """Two integrators take turns on one scene (as the bench's paired Gain does): the raster
-    pass drawn ahead for the hybrid's next frame waits through the other's frames, whose own
-    draws and a budget's probe pass go to other targets (``Rasterizer.render``'s hold), and the
-    hybrid's frames are those of a hybrid rendering alone."""
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    props = dict(denoise=False, learn_ambient=False)
-    hybrid, other = mi.load_dict({"type": "hybrid", **props}), mi.load_dict({"type": "hybrid", "budget_ms": 1e-3, **props})
-    turns = []
-    for seed in range(4):
-        turns.append(hybrid.render_result(scene, seed=seed, spp=1))
-        other.render_result(scene, seed=seed + 100, spp=1)  # a fresh state per call: a probe every frame
-        other.state = type(other.state)()
-    assert [f.stats.raster_ahead for f in turns] == [0, 0, 1, 1]
-    alone = mi.load_dict({"type": "hybrid", "raster_ahead": False, **props})
-    assert _same(_images(turns), [np.array(alone.render_result(scene, seed=s, spp=1).image) for s in range(4)])
-
-
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])
 def test_compaction_on_the_device(n, density):
     rng = np.random.default_rng(n)
@@ -154,8 +95,7 @@ def test_frame_statistics_come_from_one_synchronization():
     t = frame.stats.times_ms
     assert all(t[k] >= 0 for k in t) and t["trace"] > 0 and t["lighting"] > 0
     assert t["total"] >= t["issue"] > 0
-    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "ahead", "readback",
-                                        "timing"}
+    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "readback", "timing"}
     assert frame.stats.host_ms["replay"] > 0
 
 
@@ -176,64 +116,6 @@ def test_next_seeds_offsets_made_ahead_are_the_same_frame():
     # bit-reproducible within a process either (docs/results/cpu/reproducibility); other
     # offsets move every edge pixel
     assert np.abs(ahead - fresh).max() <= 1e-6 and ahead.mean() > 0
-
-
-def _images(frames) -> list[np.ndarray]:
-    return [np.array(f.image) for f in frames]
-
-
-def _same(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
-    """Equal frames but for the last bits of the CPU backend's atomic sums (see above)."""
-    return len(a) == len(b) and all(np.abs(x - y).max() <= 1e-6 for x, y in zip(a, b))
-
-
-def test_a_still_view_draws_the_next_raster_pass_ahead():
-    """With a still camera a frame draws the next frame's visibility buffers (the next seed's
-    offsets) while the GPU traces (``HybridRenderer._draw_ahead``): from the third frame on (the
-    second is the first that kept its camera) every pass was drawn ahead, timed, and the frames
-    are those drawn in their own frame."""
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    camera = sensor_to_world(scene.sensors()[0])
-    props = dict(spp=2, seed=3, denoise=False, learn_ambient=False)
-    ahead = hi.render_sequence(scene, [camera] * 4, **props)
-    plain = hi.render_sequence(scene, [camera] * 4, raster_ahead=False, **props)
-    assert [f.stats.raster_ahead for f in ahead] == [0, 0, 2, 2]
-    assert [f.stats.raster_ahead + f.stats.raster_discarded for f in plain] == [0] * 4
-    assert all(f.stats.times_ms["gl"] > 0 and f.stats.host_ms["ahead"] > 0 for f in ahead[2:])
-    assert _same(_images(ahead), _images(plain)) and _images(ahead)[-1].mean() > 0
-
-
-def test_a_moved_camera_gives_the_draw_ahead_up():
-    """A moving camera draws nothing ahead; a camera that moves after a still view gives up what
-    was drawn for it (counted) and shows its own view, as a frame that never drew ahead."""
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    path = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.4), (0.1, -0.2, 0))], 4)
-    moving = hi.render_sequence(scene, path, spp=1, denoise=False)
-    assert [f.stats.raster_ahead + f.stats.raster_discarded for f in moving] == [0] * 4
-    cameras = [path[0]] * 3 + [path[-1]]
-    props = dict(spp=1, seed=7, denoise=False, learn_ambient=False)
-    moved = hi.render_sequence(scene, cameras, **props)  # (the first frame may give up a draw of another test's)
-    assert moved[0].stats.raster_ahead == 0
-    assert [(f.stats.raster_ahead, f.stats.raster_discarded) for f in moved[1:]] == [(0, 0), (1, 0), (0, 1)]
-    assert _same(_images(moved), _images(hi.render_sequence(scene, cameras, raster_ahead=False, **props)))
-
-
-def test_passes_drawn_ahead_survive_other_frames_in_between():
-    """Two integrators take turns on one scene (as the bench's paired Gain does): the raster
-    pass drawn ahead for the hybrid's next frame waits through the other's frames, whose own
-    draws and a budget's probe pass go to other targets (``Rasterizer.render``'s hold), and the
-    hybrid's frames are those of a hybrid rendering alone."""
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    props = dict(denoise=False, learn_ambient=False)
-    hybrid, other = mi.load_dict({"type": "hybrid", **props}), mi.load_dict({"type": "hybrid", "budget_ms": 1e-3, **props})
-    turns = []
-    for seed in range(4):
-        turns.append(hybrid.render_result(scene, seed=seed, spp=1))
-        other.render_result(scene, seed=seed + 100, spp=1)  # a fresh state per call: a probe every frame
-        other.state = type(other.state)()
-    assert [f.stats.raster_ahead for f in turns] == [0, 0, 1, 1]
-    alone = mi.load_dict({"type": "hybrid", "raster_ahead": False, **props})
-    assert _same(_images(turns), [np.array(alone.render_result(scene, seed=s, spp=1).image) for s in range(4)])
 
 
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])

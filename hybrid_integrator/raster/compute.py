@@ -88,7 +88,6 @@ class ComputeVisibility:
         ]
         self._targets: dict[tuple[int, int], tuple[moderngl.Buffer, moderngl.Buffer | None]] = {}
         self._size = None  # the film size the program's uniforms and the context's bindings are set for
-        self._image = None  # the GL name of the target texture bound to image unit 0
 
     def _target(self, width: int, height: int) -> tuple[moderngl.Buffer, moderngl.Buffer | None]:
         key = (width, height)
@@ -133,11 +132,8 @@ class ComputeVisibility:
             for binding, buffer in enumerate(self._storage):
                 if buffer is not None:
                     buffer.bind_to_storage_buffer(binding)
-            self._size, self._image, _BOUND[id(self.ctx)] = (w, h), None, weakref.ref(self)
-        texture = fbo.color_attachments[0]  # the rasterizer draws into one of a few targets in turn
-        if self._image != texture.glo:
-            texture.bind_to_image(0, read=False, write=True)
-            self._image = texture.glo
+            fbo.color_attachments[0].bind_to_image(0, read=False, write=True)
+            self._size, _BOUND[id(self.ctx)] = (w, h), weakref.ref(self)
         triangles, medium = _grid(self.triangles), None  # None: the indirect dispatch
         grids = {CLEAR: _grid(w * h), SMALL_DEPTH: triangles, MEDIUM_GROUPS: (1, 1, 1), MEDIUM_DEPTH: medium,
                  SMALL_NUMBERS: triangles, MEDIUM_NUMBERS: medium, TILES: (-(-w // TILE), -(-h // TILE), 1)}

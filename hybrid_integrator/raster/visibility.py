@@ -93,11 +93,7 @@ class Rasterizer:
     """Draws one Mitsuba scene's visibility buffer with OpenGL.
 
     The scene's geometry is uploaded once, when the rasterizer is made; every :meth:`render` reuses
-    it. Render targets are made per film size and kept, a few of each: a pass draws into the one
-    drawn least recently that no pass *holds* (the renderer holds a frame's targets until the
-    frame is done, and those of a pass drawn ahead for the next frame until that frame is), so a
-    frame's draw ahead neither overwrites nor waits for the targets the frame itself copied from
-    (``pipeline.HybridRenderer.render``)."""
+    it. Render targets are made per film size and kept."""
 
     def __init__(self, scene: mi.Scene):
         self.ctx = gl_context()
@@ -115,9 +111,7 @@ class Rasterizer:
                                               index_buffer=self.faces, index_element_size=4)
         self._compute: ComputeVisibility | None = None
         self._depth = depth_precision()
-        #: per film size, the targets made for it, the least recently drawn first
-        self._targets: dict[tuple[int, int], list[moderngl.Framebuffer]] = {}
-        self._held: set[int] = set()  # ids of the targets that passes drawn ahead hold
+        self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
         self._readback: Readback | None = None
         #: faces left out of the draw (``method="draw"`` only): None (every face, the default:
         #: meshes may be open), or moderngl's "front" / "back" (``scripts/raster_cull_probe.py``
@@ -125,34 +119,26 @@ class Rasterizer:
         self.cull: str | None = None
 
     def target(self, width: int, height: int) -> moderngl.Framebuffer:
-        """A target of one film size that no pass holds, the least recently drawn (made when there
-        is none): the triangle numbers (R32UI) on a 32-bit float depth buffer."""
+        """The target of one film size: the triangle numbers (R32UI) on a 32-bit float depth buffer."""
         key = (width, height)
-        targets = self._targets.setdefault(key, [])
-        fbo = next((t for t in targets if id(t) not in self._held), None)
-        if fbo is None:
+        if key not in self._targets:
             fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture(key, 1, dtype="u4")],
                                        depth_attachment=self.ctx.depth_texture(key))
             self._depth.attach_float_depth(fbo, key)
-        else:
-            targets.remove(fbo)
-        targets.append(fbo)  # the most recently drawn last
-        return fbo
+            self._targets[key] = fbo
+        return self._targets[key]
 
     def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5),
-               method: str = "auto", hold: bool = False) -> moderngl.Framebuffer:
-        """The raster pass alone: the scene's visibility buffer in a target of the camera's size
-        (left on the GPU), by ``method`` (:data:`RASTER_METHODS`). ``hold``: no later pass draws
-        into that target until :meth:`drop` gives it up."""
+               method: str = "auto") -> moderngl.Framebuffer:
+        """The raster pass alone: the scene's visibility buffer in the camera's target (left on the
+        GPU), by ``method`` (:data:`RASTER_METHODS`)."""
         self.release()
-        fbo = self.target(camera.width, camera.height)
-        if hold:
-            self._held.add(id(fbo))
         if resolve_method(method) == "compute":
             if self._compute is None:
                 self._compute = ComputeVisibility(self.ctx, self.vertices, self.faces, len(self.geometry.faces))
-            return self._compute.render(camera, offset, fbo)
+            return self._compute.render(camera, offset, self.target(camera.width, camera.height))
         w, h = camera.width, camera.height
+        fbo = self.target(w, h)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         # 0 is the background in the integer target; depth 0 is infinitely far (reversed Z)
@@ -190,10 +176,6 @@ class Rasterizer:
         if self._readback is None:
             self._readback = Readback()
         return self._readback.ids(fbo, self.read_ids)
-
-    def drop(self, fbo: moderngl.Framebuffer) -> None:
-        """Give up the hold of a pass drawn with ``hold=True`` (:meth:`render`)."""
-        self._held.discard(id(fbo))
 
     def release(self) -> None:
         """The targets back from CUDA (``interop.Readback.release``): before OpenGL touches them,
