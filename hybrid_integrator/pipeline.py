@@ -52,7 +52,7 @@ from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn
 from .objects import scene_objects
 from .primary import camera_rays, primary_hits, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
-from .raster.context import gl_flush
+from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.interop import HostCopy, device_array
 from .raster.visibility import Rasterizer, TriangleTables, resolve_method
@@ -130,7 +130,8 @@ class HybridSettings:
 class FrameStats:
     """What one frame cost and did. Times are milliseconds, summed over the frame's sample passes:
     per stage the device time (module docstring; ``raster`` includes ``gl``, the OpenGL clear and
-    draw; the copy of its target into Dr.Jit's array is in no stage), ``issue`` the host's time to issue the frame, ``total`` its
+    draw, which is NaN where the GL driver timed nothing: Mesa's llvmpipe, the first draw of a
+    process; the copy of its target into Dr.Jit's array is in no stage), ``issue`` the host's time to issue the frame, ``total`` its
     wall-clock time until its image and statistics are on hand (after its one synchronization),
     less ``host_ms["timing"]``, the profiling that produces the stage times."""
 
@@ -828,8 +829,9 @@ class HybridRenderer:
         if frame.denoiser is not None:
             stats.times_ms["denoise"] = frame.denoiser.elapsed_ms()
         if settings.primary == "raster":
-            stats.times_ms["gl"] = sum(q.elapsed for q in self._gl_queries[:frame.stats.spp]) * 1e-6
-            stats.times_ms["raster"] += stats.times_ms["gl"]
+            stats.times_ms["gl"] = sum(gl_elapsed_ms(q) for q in self._gl_queries[:frame.stats.spp])
+            if math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
+                stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")
         if learnt is not None:
             # the refit waits for the next prediction: the next frame's plan, made ahead in this

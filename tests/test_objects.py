@@ -99,6 +99,25 @@ def test_frame_statistics_come_from_one_synchronization():
     assert frame.stats.host_ms["replay"] > 0
 
 
+def test_a_process_first_frame_says_its_draw_was_not_timed():
+    """Mesa's llvmpipe answers the timer query of a process's first draw with 2**32 - 1 ns (4295
+    ms in the frame's stats until now): that frame's ``gl`` is NaN, its raster stage the kernels'
+    time alone, and the next frame's draw is timed (a fresh process: the suite has drawn before)."""
+    import subprocess
+    import sys
+
+    code = ("import math, mitsuba as mi; mi.set_variant('llvm_ad_rgb'); import hybrid_integrator as hi\n"
+            f"scene = hi.load_scene({str(DEFAULT_SCENE)!r}, resx=32, resy=24)\n"
+            "for seed in range(2):\n"
+            "    t = hi.render(scene, spp=1, seed=seed, denoise=False, raster='draw').stats.times_ms\n"
+            "    print(t['gl'], t['raster'], t['total'])")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    (gl0, raster0, total0), (gl1, raster1, total1) = (map(float, line.split()) for line in done.stdout.split("\n")[-3:-1])
+    assert (np.isnan(gl0) or 0 < gl0 < total0) and 0 < raster0 < total0
+    assert 0 < gl1 < raster1 < total1
+
+
 def test_next_seeds_offsets_made_ahead_are_the_same_frame():
     """A frame makes the next seed's sub-pixel offsets while the GPU traces (``pipeline.py``):
     a frame whose offsets were made ahead equals one whose were not."""

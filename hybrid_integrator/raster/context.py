@@ -132,6 +132,19 @@ def _gl_flush_entry():
     return gl_entry("glFlush")
 
 
+#: what Mesa 22's llvmpipe answers a timer query around the first draw call of a process (checked
+#: alone: a fresh context's first ``Rasterizer.render`` by ``draw`` reads 4294967295 ns, the next
+#: ones a few ms; its compute dispatches and NVIDIA's driver give times): no time at all
+_NO_TIME = 0xFFFFFFFF
+
+
+def gl_elapsed_ms(query) -> float:
+    """The GPU time (ms) a moderngl timer query measured, or NaN where the driver gave none
+    (``_NO_TIME``)."""
+    ns = query.elapsed
+    return float("nan") if ns >= _NO_TIME else ns * 1e-6
+
+
 def gl_flush() -> None:
     """``glFlush``: hand the commands the driver has buffered to the GPU without waiting for them
     (moderngl has only ``glFinish``, which waits). A timer query's end, issued after the raster
