@@ -2,12 +2,8 @@
 # Stop 31, second GPU run: the raster pass drawn ahead (this stop's code) against stop 30's code
 # (2ef826a, copied into the git-excluded .device/base), one H200, cuda_ad_rgb, 1280x720.
 # Needs extras.sh (calls 1 and 2) on the same machine first. Everything lands in $OUT/r.tar.xz.
-set -uo pipefail
-source .device/prelude.sh
-export PYTHONPATH="/tmp/extra:$PYTHONPATH"
-ln -sfn ../plugins hybrid_integrator/plugins; ln -sfn ../plugins .device/base/hybrid_integrator/plugins
-D="-D resx=1280 -D resy=720 -D models_dir=/tmp/scn/models -D sponza_dir=/tmp/scn/sponza-dabrovic -D showcase_dir=/tmp/scn/cbox -D dining_dir=/tmp/scn/dining-room"
-S="scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml scenes/many_objects.xml"
+source docs/results/gpu/issue10/stop31/env.sh
+ln -sfn ../plugins .device/base/hybrid_integrator/plugins
 R=/tmp/r; mkdir -p $R
 bench() { python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1 $S --budgets $D -o "$1"; }
 # 1. in one process, blocks of still frames with raster_ahead on / off / the RT baseline, 2 rounds

@@ -3,11 +3,8 @@
 # (29a70fe, copied into the git-excluded .device/base28) against this stop's (= stop 30's) code, in
 # turn, two rounds; then the bench's 50 % budget rows on the four scenes (this stop's code).
 # One H200, cuda_ad_rgb, 1280x720. Needs extras.sh (calls 1 and 2) first. Results: $OUT/b.tar.xz.
-set -uo pipefail
-source .device/prelude.sh
-export PYTHONPATH="/tmp/extra:$PYTHONPATH"
-ln -sfn ../plugins hybrid_integrator/plugins; ln -sfn ../plugins .device/base28/hybrid_integrator/plugins
-D="-D resx=1280 -D resy=720 -D models_dir=/tmp/scn/models -D sponza_dir=/tmp/scn/sponza-dabrovic -D showcase_dir=/tmp/scn/cbox -D dining_dir=/tmp/scn/dining-room"
+source docs/results/gpu/issue10/stop31/env.sh
+ln -sfn ../plugins .device/base28/hybrid_integrator/plugins
 R=/tmp/b; mkdir -p $R
 budget() { python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --frames 50 --resx 1280 --resy 720 --importance 0.01 -o "$1" > "$1.log" 2>&1; }
 for k in 1 2; do

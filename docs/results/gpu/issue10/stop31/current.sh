@@ -2,12 +2,7 @@
 # Stop 31, first GPU run: the code of stop 30 (frozen.FrozenScene) on one H200, cuda_ad_rgb,
 # 1280x720. The timing bench of the five scenes, the trace call, the budgets, host phases.
 # Needs extras.sh run first on the same machine. Outputs under $OUT.
-set -uo pipefail
-source .device/prelude.sh
-export PYTHONPATH="/tmp/extra:$PYTHONPATH"
-ln -sfn ../plugins hybrid_integrator/plugins
-D="-D resx=1280 -D resy=720 -D models_dir=/tmp/scn/models -D sponza_dir=/tmp/scn/sponza-dabrovic -D showcase_dir=/tmp/scn/cbox -D dining_dir=/tmp/scn/dining-room"
-S="scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml scenes/many_objects.xml"
+source docs/results/gpu/issue10/stop31/env.sh
 hybrid() { python3 -m hybrid_integrator.cli "$@"; }
 hybrid bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1 $S --budgets $D -o $OUT/bench > $OUT/bench.log 2>&1
 tail -3 $OUT/bench.log; grep -A8 "^| scene" $OUT/bench/bench.md | head -8

@@ -2,12 +2,7 @@
 # Stop 31, last GPU run: this stop's code (= stop 30's) once more on whatever host the lent H200
 # comes with (the hosts' speed differed between this stop's machine starts: path_profile/), with a
 # fixed host-speed probe first and last. One H200, cuda_ad_rgb, 1280x720. Needs extras.sh first.
-set -uo pipefail
-source .device/prelude.sh
-export PYTHONPATH="/tmp/extra:$PYTHONPATH"
-ln -sfn ../plugins hybrid_integrator/plugins
-D="-D resx=1280 -D resy=720 -D models_dir=/tmp/scn/models -D sponza_dir=/tmp/scn/sponza-dabrovic -D showcase_dir=/tmp/scn/cbox -D dining_dir=/tmp/scn/dining-room"
-S="scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml scenes/many_objects.xml"
+source docs/results/gpu/issue10/stop31/env.sh
 R=/tmp/f; mkdir -p $R
 host() { python3 -c "import time, statistics as s
 def t():
