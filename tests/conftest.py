@@ -51,9 +51,4 @@ def timed_draws():
     (``raster.context.gl_elapsed_ms``: the frame's ``gl`` is NaN then), so that a test's frame
     stats do not depend on whether an earlier test drew (``test_objects.py`` checks that first
     frame in a process of its own)."""
-    from hybrid_integrator.api import rasterizer
-    from hybrid_integrator.raster.camera import RasterCamera
-    from hybrid_integrator.scene import load_scene
-
-    scene = load_scene(DEFAULT_SCENE, resx=16, resy=12)
-    rasterizer(scene).read_ids(rasterizer(scene).render(RasterCamera.from_sensor(scene.sensors()[0]), method="draw"))
+    hybrid_integrator.rasterize(load(DEFAULT_SCENE, resx=16, resy=12), method="draw")

@@ -106,7 +106,7 @@ def test_a_process_first_frame_says_its_draw_was_not_timed():
     import subprocess
     import sys
 
-    code = ("import math, mitsuba as mi; mi.set_variant('llvm_ad_rgb'); import hybrid_integrator as hi\n"
+    code = ("import mitsuba as mi; mi.set_variant('llvm_ad_rgb'); import hybrid_integrator as hi\n"
             f"scene = hi.load_scene({str(DEFAULT_SCENE)!r}, resx=32, resy=24)\n"
             "for seed in range(2):\n"
             "    t = hi.render(scene, spp=1, seed=seed, denoise=False, raster='draw').stats.times_ms\n"

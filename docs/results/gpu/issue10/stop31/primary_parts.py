@@ -17,22 +17,17 @@ the kernel history, wall ms with one synchronization per call):
 - ``rays, fewer flags`` / ``raster, fewer flags``: both with ``RayFlags.All`` less the normals'
   derivatives (``dNSdUV``, ``dNGdUV``).
 
-    python3 docs/results/gpu/issue10/stop31/primary_parts.py --variant cuda_ad_rgb scenes/*.xml $D
+    python3 docs/results/gpu/issue10/stop31/primary_parts.py --variant cuda_ad_rgb --repeats 31 scenes/*.xml $D
 """
-import argparse
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[5]
 sys.path.insert(0, str(ROOT / "scripts"))
+from raster_cull_probe import arguments  # noqa: E402  (the raster probes' command line)
 from trace_overhead import timed_in_turn  # noqa: E402
 
-parser = argparse.ArgumentParser()
-parser.add_argument("scenes", nargs="+")
-parser.add_argument("--variant", default="llvm_ad_rgb")
-parser.add_argument("--repeats", type=int, default=31)
-parser.add_argument("-D", dest="defines", action="append", default=[])
-args = parser.parse_args()
+args = arguments(__doc__)
 
 import drjit as dr  # noqa: E402
 import mitsuba as mi  # noqa: E402
