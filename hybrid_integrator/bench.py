@@ -124,7 +124,9 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
         return procedural_scene(triangles, **keys), f"procedural_{triangles}"
     # -D applies to the scenes that take it: Mitsuba refuses parameters a file does not use
     text = Path(spec).read_text(errors="replace") if Path(spec).is_file() else ""
-    return load_scene(spec, **{k: v for k, v in params.items() if f"${k}" in text}), Path(spec).stem
+    # (a whole name: ``$res`` is not used by a file that names only ``$resx``)
+    used = {k: v for k, v in params.items() if re.search(rf"\${re.escape(k)}(?![A-Za-z0-9_])", text)}
+    return load_scene(spec, **used), Path(spec).stem
 
 
 def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3) -> dict:

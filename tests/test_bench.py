@@ -101,3 +101,17 @@ def test_bench_jobs_on_ray_keep_their_order(tmp_path):
 def test_bench_bad_input(tmp_path, args, message):
     done = bench(*args, "--frames", "1", "-o", str(tmp_path / "x"))
     assert done.returncode != 0 and message in done.stderr
+
+
+def test_each_scene_gets_the_parameters_it_names():
+    """``-D`` goes to the scenes that name the parameter, by its whole name: ``$res`` is not
+    ``$resx`` (Mitsuba refuses a parameter a file does not use)."""
+    from hybrid_integrator.bench import load_bench_scene
+
+    params = {"resx": "40", "resy": "30", "res": "24", "integrator": "path"}
+    scene, name = load_bench_scene(str(DEFAULT_SCENE), params)
+    assert name == "default" and tuple(scene.sensors()[0].film().size()) == (40, 30)
+    from conftest import SHARED_SCENES
+
+    scene, _ = load_bench_scene(str(SHARED_SCENES / "cbox/cbox_spheres_analytic.xml"), params)
+    assert tuple(scene.sensors()[0].film().size()) == (24, 24)
