@@ -50,7 +50,7 @@ from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, ca
                         coverage_sums, default_kinds, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
-from .primary import camera_rays, primary_hits, traced_hits
+from .primary import camera_rays, primary_hits, raster_hits, retrace, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
@@ -59,9 +59,11 @@ from .raster.visibility import Rasterizer, TriangleTables, resolve_method
 from .selection import DEFAULT_EFFECTS, parse_effects, refracts, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
-from .trace import RAY_KINDS, trace_effects
+from .trace import RAY_KINDS, LaneHits, LanePrimary, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
+#: where the raster's refined pixels (primary.py: silhouettes, proxies, misses) are traced
+REFINE_STAGES = ("primary", "trace")
 STAGES = ("raster", "lighting", "select", "trace", "compose", "temporal", "denoise")
 SHADOW_ONLY = ("shadow",)  # the effect set of a shadow tier (heuristic.candidates)
 HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
@@ -76,6 +78,7 @@ class HybridSettings:
     hide_emitters: bool = False
     primary: str = "raster"
     raster: str = "auto"
+    refine: str = "primary"
     effects: tuple[str, ...] = DEFAULT_EFFECTS
     candidates: object = None  # None: every object; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
@@ -105,6 +108,8 @@ class HybridSettings:
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
         resolve_method(self.raster)  # a clear error for an unknown method
+        if self.refine not in REFINE_STAGES:
+            raise HybridError(f"refine='{self.refine}' is not one of {list(REFINE_STAGES)}")
         object.__setattr__(self, "effects", parse_effects(self.effects))
         if self.denoise_quality not in QUALITIES:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
@@ -265,6 +270,7 @@ class PassStatic:
     width: int
     height: int
     primary: str
+    refine: str  # where the raster's refined pixels are traced (HybridSettings.refine)
     effects: tuple[str, ...]
     configs: tuple[tuple[str, ...], ...]  # the effect sets the candidates deserve
     max_depth: int
@@ -351,6 +357,62 @@ class PassCounts:
                    int(sums[BLOCKS * width + 1]))
 
 
+@dataclass
+class PixelTerms:
+    """Stages 2 and 3 at each pixel's primary hit (or at each traced lane's): what the stages after
+    them read."""
+
+    object: mi.UInt32
+    valid: mi.Bool
+    depth: mi.Float  # the hit's distance from the eye (coverage, heuristic.py)
+    targets: dict  # the G-buffer targets (gbuffer.aov_values), one array per channel
+    shaded: mi.Color3f  # the deferred lighting, without the learnt ambient term
+    albedo: mi.Color3f
+    raster: mi.Color3f  # the raster layer: the deferred lighting with the ambient term (Fig. 1g)
+    traced: mi.Bool  # the selection (selection.select_pixels)
+    config: mi.UInt32
+
+
+def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye: mi.Point3f) -> tuple[PixelTerms, mi.Bool]:
+    """Deferred lighting (stage 2, §3.1) and selection (stage 3, §4) at the primary hits ``hits``;
+    also whether each hit's paths are expected to be long (``selection.long_paths``)."""
+    targets = aov_values(scene, hits, static.targets, data.constants)
+    if static.hide_emitters:
+        targets["emission"] = [dr.zeros(mi.Float, dr.width(hits.valid)) for _ in range(3)]
+    shaded = shade(targets, hits.valid, -hits.ray.d, data.lights)
+    albedo = mi.Color3f(*targets["albedo"])
+    selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
+                              static.has_emitters)
+    return PixelTerms(object=hits.object, valid=hits.valid, depth=dr.norm(hits.si.p - eye), targets=targets,
+                      shaded=shaded, albedo=albedo, raster=with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient),
+                      traced=selection.traced, config=selection.config), selection.long
+
+
+def refined_lanes(scene: mi.Scene, hits, terms: PixelTerms, data: PassData, static: PassStatic,
+                  eye: mi.Point3f) -> LanePrimary:
+    """The trace lanes' primary hits where the raster's refined pixels (``primary.raster_hits``)
+    are traced too: their camera rays are traced in the trace stage's launch, their lighting and
+    selection made there (:func:`surface_terms`) and written into ``terms``; the other lanes read
+    their hits and selection from the stages before."""
+    def lanes(pixel: mi.UInt32, busy: mi.Bool, first: mi.Bool) -> LaneHits:
+        lane = dr.gather(type(hits), hits, pixel, busy)
+        again = busy & (lane.refined > 0)
+        traced = dr.gather(mi.Bool, terms.traced, pixel, busy)  # read before the refined lanes write
+        config = dr.gather(mi.UInt32, terms.config, pixel, busy)
+
+        def refine(lane, traced, config):
+            lane = retrace(scene, lane, again, data.tables)
+            own, _ = surface_terms(scene, lane, data, static, eye)
+            dr.scatter(terms, own, pixel, first)
+            return lane, own.traced, own.config
+
+        # a branch, not a mask: the other lanes (most of them) skip the shading code
+        lane, traced, config = dr.if_stmt((lane, traced, config), again, refine, lambda *state: state,
+                                          label="refined pixels")
+        return LaneHits(ray=lane.ray, si=lane.si, object=lane.object, config=config, traced=busy & traced)
+    return lanes
+
+
 def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic, clock: StageClock) -> PassOutput:
     """Stages 1 (on the device) to 5 of one sample pass, as Dr.Jit kernels (module docstring)."""
     w, h = static.width, static.height
@@ -358,49 +420,48 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     eye = mi.Point3f(*(dr.gather(mi.Float, data.camera, k) for k in range(2, 5)))
     seed = mi.UInt64(dr.gather(mi.UInt32, data.seed, 0)) | (mi.UInt64(dr.gather(mi.UInt32, data.seed, 1)) << 32)
     ray = camera_rays(sensor, w, h, offset)
-    # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8)
+    # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8);
+    # the raster's refined pixels traced here, or in stage 4's launch (``refine="trace"``)
+    late = static.primary == "raster" and static.refine == "trace"
     if static.primary == "raster":
-        hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables)
+        hits = (raster_hits if late else primary_hits)(scene, ray, data.triangle_id, w, h, data.tables)
     else:
         hits = traced_hits(scene, ray, data.tables)
     clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
-    # 2. deferred lighting: the raster layer (§3.1, Fig. 1g)
-    targets = aov_values(scene, hits, static.targets, data.constants)
-    if static.hide_emitters:
-        targets["emission"] = [dr.zeros(mi.Float, w * h) for _ in range(3)]
-    shaded = shade(targets, hits.valid, -hits.ray.d, data.lights)
-    albedo = mi.Color3f(*targets["albedo"])
-    raster = with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient)
-    aovs = {k: targets[k] for k in static.aovs}
-    clock.mark("lighting", raster, shaded, albedo, aovs)
-    # 3. selection (§4): the selected objects' pixels whose material needs an effect; coverage (eq. 1)
-    selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
-                              static.has_emitters)
-    sums = coverage_sums(hits.object, hits.valid, dr.norm(hits.si.p - eye), w, h, static.n_objects, extra=2)
-    n = max(static.n_objects, 1)  # then the refined pixels: proxies, silhouettes and misses
-    sums.add(mi.Float(1.0), BLOCKS * n - 1 + hits.refined, hits.refined > 0)
-    long = selection.long if static.long_first else None
-    clock.mark("select", selection.traced, selection.config, long, sums.values)
+    # 2. deferred lighting: the raster layer (§3.1, Fig. 1g); 3. selection (§4)
+    terms, long = surface_terms(scene, hits, data, static, eye)
+    # (what stage 4 writes the refined pixels' own terms into must be evaluated: ``refined_lanes``)
+    clock.mark("lighting", terms.raster, terms.shaded, terms.albedo, *((terms.targets, terms.depth) if late else
+                                                                       ([terms.targets[k] for k in static.aovs],)))
+    clock.mark("select", terms.traced, terms.config, long if static.long_first else None)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
-    rt, direct, counts = trace_effects(scene, hits.ray, hits.si, selection.traced, static.effects, static.max_depth,
-                                       static.rr_depth, static.hide_emitters, seed=seed, obj=hits.object,
-                                       n_objects=static.n_objects, first_effects=static.configs,
-                                       first_config=selection.config, keep_direct=bool(static.modelled),
-                                       paths=static.secondary_spp, long=long)
-    full, tier = selection.traced, None
+    rt, direct, counts = trace_effects(scene, hits.ray, hits.si, terms.traced | (hits.refined > 0) if late else terms.traced,
+                                       static.effects, static.max_depth, static.rr_depth, static.hide_emitters,
+                                       seed=seed, obj=hits.object, n_objects=static.n_objects,
+                                       first_effects=static.configs, first_config=terms.config,
+                                       keep_direct=bool(static.modelled), paths=static.secondary_spp,
+                                       long=long if static.long_first else None,
+                                       primary=refined_lanes(scene, hits, terms, data, static, eye) if late else None,
+                                       primary_first=hits.refined > 0 if late else None)
+    # coverage (eq. 1), then the refined pixels: proxies, silhouettes and misses
+    sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=2)
+    n = max(static.n_objects, 1)
+    sums.add(mi.Float(1.0), BLOCKS * n - 1 + hits.refined, hits.refined > 0)
+    raster_layer, albedo = terms.raster, terms.albedo
+    full, tier = terms.traced, None
     if static.modelled:  # pixels traced without their indirect light take the learnt term for it
         modelled = mi.Bool(False)
         for k in static.modelled:
-            modelled |= selection.config == k
-        modelled &= selection.traced
-        full = selection.traced & ~modelled
-        rt = with_ambient(rt, albedo, hits.object, modelled, data.indirect)
-        tier = with_ambient(direct, albedo, hits.object, full, data.indirect)  # what a shadow tier would show
-    add_error(sums, hits.object, selection.traced, rt, raster, shaded, albedo, static.n_objects, w, full=full,
+            modelled |= terms.config == k
+        modelled &= terms.traced
+        full = terms.traced & ~modelled
+        rt = with_ambient(rt, albedo, terms.object, modelled, data.indirect)
+        tier = with_ambient(direct, albedo, terms.object, full, data.indirect)  # what a shadow tier would show
+    add_error(sums, terms.object, terms.traced, rt, raster_layer, terms.shaded, albedo, static.n_objects, w, full=full,
               direct=direct, tier=tier)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums.values)
     # 5. composition (§5), splatted like a camera ray through the same film position
-    color = compose(raster, rt, selection.traced, static.blend)
+    color = compose(raster_layer, rt, terms.traced, static.blend)
     if static.max_depth == 0:  # as Mitsuba's path: no vertex at all, not even an emitter seen directly
         color = dr.zeros(mi.Color3f, w * h)
     index = dr.arange(mi.UInt32, w * h)
@@ -411,12 +472,12 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     # neighbours, which it then keeps as detail): a box filter when denoising
     rfilter = _box_filter(mi.variant()) if static.guides else film.rfilter()
     block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 5 if static.has_alpha else 4, rfilter)
-    alpha = dr.select((hits.valid | static.background_alpha) & (static.max_depth != 0), 1.0, 0.0)
+    alpha = dr.select((terms.valid | static.background_alpha) & (static.max_depth != 0), 1.0, 0.0)
     block.put(pos, [color.x, color.y, color.z] + ([alpha] if static.has_alpha else []) + [mi.Float(1.0)])
     layers = None
     if static.layers:
         layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, rfilter)
-        layer_block.put(pos, [raster.x, raster.y, raster.z, rt.x, rt.y, rt.z, dr.select(selection.traced, 1.0, 0.0),
+        layer_block.put(pos, [*raster_layer, *rt, dr.select(terms.traced, 1.0, 0.0),
                               mi.Float(1.0)])
         layers = layer_block.tensor()
     guides = surface = film_block = None
@@ -425,18 +486,18 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         film_block.put(pixel + offset, [color.x, color.y, color.z, mi.Float(1.0)])
         film_block = film_block.tensor()
     if static.guides:  # the denoiser's guides (denoise.py), filtered like the colour
-        albedo = [dr.clip(a + s, 0.0, 1.0) for a, s in zip(targets["albedo"], targets["specular"])]
-        albedo = [dr.select(hits.valid, a, dr.clip(c, 0.0, 1.0)) for a, c in zip(albedo, (color.x, color.y, color.z))]
+        albedo = [dr.clip(a + s, 0.0, 1.0) for a, s in zip(terms.targets["albedo"], terms.targets["specular"])]
+        albedo = [dr.select(terms.valid, a, dr.clip(c, 0.0, 1.0)) for a, c in zip(albedo, (color.x, color.y, color.z))]
         guide_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 7, rfilter)
-        guide_block.put(pos, albedo + list(targets["normal"]) + [mi.Float(1.0)])
+        guide_block.put(pos, albedo + list(terms.targets["normal"]) + [mi.Float(1.0)])
         guides = guide_block.tensor()
     if static.surface:
-        surface = Surface(position=mi.Point3f(*targets["position"]), normal=mi.Vector3f(*targets["normal"]),
-                          object=dr.select(hits.valid, hits.object, 0xFFFFFFFF))
+        surface = Surface(position=mi.Point3f(*terms.targets["position"]), normal=mi.Vector3f(*terms.targets["normal"]),
+                          object=dr.select(terms.valid, terms.object, 0xFFFFFFFF))
     packed = dr.concat([counts.per_object, dr.reinterpret_array(mi.UInt32, sums.total())])
     clock.mark("compose", block.tensor(), layers, packed, guides, surface, film_block)
-    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs=aovs, guides=guides, surface=surface,
-                      film=film_block)
+    return PassOutput(image=block.tensor(), layers=layers, counts=packed, aovs={k: terms.targets[k] for k in static.aovs},
+                      guides=guides, surface=surface, film=film_block)
 
 
 @functools.lru_cache(maxsize=None)
@@ -603,7 +664,8 @@ class HybridRenderer:
         film = sensor.film()
         glass = refracts(self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a)
         static = PassStatic(
-            width=camera.width, height=camera.height, primary=settings.primary, effects=settings.effects,
+            width=camera.width, height=camera.height, primary=settings.primary, refine=settings.refine,
+            effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),
             targets=tuple(dict.fromkeys(tuple(INPUTS) + aovs)), aovs=aovs, layers=layers,

@@ -10,8 +10,8 @@ against the same camera ray is the *same* interaction Mitsuba's own ray tracer p
 frame, UVs, ``wi``), so the secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
 
 Some pixels are *refined*: their primary hit is re-found by tracing their camera ray
-(``ray_intersect_preliminary``, in the same kernel, only on those lanes), and they are counted in
-the frame statistics:
+(``ray_intersect_preliminary``, only on those lanes: :func:`retrace`; in a frame, inside the trace
+stage's launch, :func:`raster_hits`), and they are counted in the frame statistics:
 
 - pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
   be there;
@@ -147,16 +147,20 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
                         t=t, uv=uv, inside=inside, proxy=proxy)
 
 
-def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                 tables: TriangleTables) -> PrimaryHits:
-    """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
-    ``ray`` of a ``width`` × ``height`` frame."""
+def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
+                tables: TriangleTables) -> PrimaryHits:
+    """The raster's hits as Mitsuba surface interactions for the camera rays ``ray`` of a ``width``
+    × ``height`` frame, with no ray traced: the pixels to refine (module docstring) are marked in
+    ``refined`` and left without a hit (``valid`` False) for :func:`retrace`. A kernel that traces
+    rays costs the GPU its traversal's latency however few rays it traces (an H200 without RT
+    cores: 0.21–0.60 ms for the 1–5 % refined pixels against 0.05–0.07 without them,
+    ``docs/results/gpu/issue10/stop31``), so the device pass re-traces them inside its trace
+    stage's launch, which traces anyway (``pipeline.device_pass``)."""
     record = resolve(triangle_id, ray, tables)
     proxy = record.proxy
     edge = (silhouettes(dr.select(record.hit, record.object + 1, 0), width, height)
             | (record.hit & ~record.inside)) & ~proxy
-    refine = proxy | edge
-    raster_hit = record.hit & ~refine
+    raster_hit = record.hit & ~(proxy | edge)
 
     pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))
     pi.t = dr.select(raster_hit, record.t, dr.inf)
@@ -165,15 +169,31 @@ def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: 
     pi.shape_index = record.shape
     pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), record.shape, raster_hit)
     pi.valid = raster_hit
-    traced = scene.ray_intersect_preliminary(ray, False, refine)
-    pi = dr.select(refine, traced, pi)
-    valid = pi.is_valid()
-    shape = dr.select(refine, shape_indices(tables.pointer_shape, pi.shape, valid), record.shape)
-    obj = dr.select(refine, object_indices(tables.object, tables.first_triangle, shape, pi.prim_index, valid),
-                    record.object)
-    si = pi.compute_surface_interaction(ray, mi.RayFlags.All, valid)
+    si = pi.compute_surface_interaction(ray, mi.RayFlags.All, raster_hit)
     refined = dr.select(proxy, 1, dr.select(edge, 2, 0))
-    return PrimaryHits(ray=ray, si=si, shape=shape, object=obj, valid=valid, refined=mi.UInt32(refined))
+    return PrimaryHits(ray=ray, si=si, shape=record.shape, object=record.object, valid=raster_hit,
+                       refined=mi.UInt32(refined))
+
+
+def retrace(scene: mi.Scene, hits: PrimaryHits, again: mi.Bool, tables: TriangleTables) -> PrimaryHits:
+    """``hits`` with the lanes of ``again`` re-found by tracing their camera ray (Mitsuba's
+    ``ray_intersect_preliminary``, on those lanes only): the refined pixels of :func:`raster_hits`."""
+    pi = scene.ray_intersect_preliminary(hits.ray, False, again)
+    valid = pi.is_valid()
+    shape = shape_indices(tables.pointer_shape, pi.shape, valid)
+    obj = object_indices(tables.object, tables.first_triangle, shape, pi.prim_index, valid)
+    si = pi.compute_surface_interaction(hits.ray, mi.RayFlags.All, valid)
+    return PrimaryHits(ray=hits.ray, si=dr.select(again, si, hits.si), shape=dr.select(again, shape, hits.shape),
+                       object=dr.select(again, obj, hits.object), valid=dr.select(again, valid, hits.valid),
+                       refined=hits.refined)
+
+
+def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
+                 tables: TriangleTables) -> PrimaryHits:
+    """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
+    ``ray`` of a ``width`` × ``height`` frame, the refined pixels traced in the same kernel."""
+    hits = raster_hits(scene, ray, triangle_id, width, height, tables)
+    return retrace(scene, hits, hits.refined > 0, tables)
 
 
 def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> PrimaryHits:

@@ -84,15 +84,20 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
     return Selection(traced=traced & valid, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags))
 
 
-def compact(mask: mi.Bool, first: mi.Bool | None = None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
+def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
     the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
     arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
     once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
-    ``n`` back to the host to size its result. With ``first``, the set lanes that are also set
-    there come first (each part in order: a stable partition, one more prefix sum). Returns
+    ``n`` back to the host to size its result. With ``first`` masks (None: left out), the set lanes
+    of the first mask come first, then those of the second that are not in the first, ..., then
+    the rest, each part in order (a stable partition, one more prefix sum per mask). Returns
     (index, lane active, slot of each set lane)."""
-    parts = [mask] if first is None else [mask & first, mask & ~first]
+    parts, rest = [], mask
+    for group in (g for g in first if g is not None):
+        parts.append(rest & group)
+        rest = rest & ~group
+    parts.append(rest)
     last = mi.UInt32(dr.width(mask) - 1)
     slot, n = mi.UInt32(0), mi.UInt32(0)
     for part in parts:

@@ -21,6 +21,7 @@ its primary hit came from.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import drjit as dr
@@ -38,6 +39,32 @@ class TraceCounts:
     (n: the scene's object count); the last entry counts the traced pixels."""
 
     per_object: mi.UInt32
+
+
+@dataclass
+class LaneHits:
+    """The primary hits that the trace's lanes (one per path) start from."""
+
+    ray: mi.Ray3f
+    si: mi.SurfaceInteraction3f
+    object: mi.UInt32
+    config: mi.UInt32 | None  # index into the primary vertex's effect sets (None: one set)
+    #: the lane's paths are traced (a lane may be there for its primary hit alone: ``primary``)
+    traced: mi.Bool
+
+
+#: the primary hits of a trace's lanes from (each lane's pixel: UInt32, the lane is busy: Bool, it is
+#: its pixel's first path: Bool): ``trace_effects``' ``primary``
+LanePrimary = Callable[..., LaneHits]
+
+
+def gathered(ray: mi.Ray3f, si: mi.SurfaceInteraction3f, obj: mi.UInt32, config: mi.UInt32 | None) -> LanePrimary:
+    """The lanes' primary hits read from per-pixel arrays, every busy lane traced."""
+    def lanes(pixel: mi.UInt32, busy: mi.Bool, first: mi.Bool) -> LaneHits:
+        return LaneHits(ray=dr.gather(mi.Ray3f, ray, pixel, busy), si=dr.gather(mi.SurfaceInteraction3f, si, pixel, busy),
+                        object=dr.gather(mi.UInt32, obj, pixel, busy),
+                        config=None if config is None else dr.gather(mi.UInt32, config, pixel, busy), traced=busy)
+    return lanes
 
 
 def _mis(a, b):
@@ -77,7 +104,8 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   first_effects: tuple[tuple[str, ...], ...] | None = None,
                   first_config: mi.UInt32 | None = None,
                   keep_direct: bool = False, paths: int = 1,
-                  long: mi.Bool | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
+                  long: mi.Bool | None = None, primary: LanePrimary | None = None,
+                  primary_first: mi.Bool | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
     With ``keep_direct``, also returns the light of each path's first vertex alone (its emission
@@ -104,41 +132,54 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     most of the GPU idle behind them, started first they overlap the many short ones
     (longest-first scheduling). The lane order changes no result: each pixel's random stream is
     its own. The device pass asks for it on the CUDA backend where a candidate is glass
-    (``pipeline.PassStatic.long_first``)."""
+    (``pipeline.PassStatic.long_first``).
+
+    ``primary`` (default: :func:`gathered` from ``ray``, ``si``, ``obj`` and ``first_config``)
+    gives the lanes' primary hits, inside the launch: the device pass re-traces the raster's
+    refined pixels there (``primary.raster_hits``), which are in ``traced`` for that alone where
+    their object is not traced (``LaneHits.traced``); only the traced lanes are counted. The
+    pixels of ``primary_first`` (those it re-traces) are launched before all others, together: a
+    launch runs its lanes in groups (a GPU's warps, the LLVM backend's packets) that take a branch
+    if one of their lanes does, so the re-traced lanes, scattered among the others, would delay
+    almost every group by a ray's traversal; launched first, their extra ray is behind them before
+    the longest paths end."""
     n = dr.width(traced)
     width = max(n_objects, 1)
-    if first_effects == ():  # no object deserves any effect: nothing can be traced
+    if first_effects == () and primary is None:  # no object deserves any effect: nothing can be traced
         return dr.zeros(mi.Color3f, n), None, TraceCounts(per_object=dr.zeros(mi.UInt32, len(RAY_KINDS) * width + 1))
-    pixel, active, slot = compact(traced, long)  # only the selected pixels are traced: cost follows the selection
+    pixel, active, slot = compact(traced, primary_first, long)  # only the selected pixels are traced: cost follows the selection
     # the lanes of the paths: ``paths`` consecutive lanes per traced pixel, so the busy lanes stay in front
     path_pixel, path_active, stream = (pixel, active, pixel) if paths == 1 else _lanes_of(pixel, active, paths)
-    ray = dr.gather(mi.Ray3f, ray, path_pixel, path_active)
-    si = dr.gather(mi.SurfaceInteraction3f, si, path_pixel, path_active)
     first = tuple(Lobes.of(e) for e in (first_effects if first_effects is not None else (effects,)))
-    # the lobe set of each traced pixel (None: one set for all)
-    config = dr.gather(mi.UInt32, first_config, path_pixel, path_active) if len(first) > 1 else None
-    # one stream per pixel (and path), whatever else is traced: seed() (unlike the constructor)
-    # adds no lane offset. The initial state is hashed from (stream, pass seed) with TEA, as
-    # Mitsuba's samplers do: PCG32 states that differ by a small constant (pass 0, 1, 2, ...) give
-    # correlated sequences, whose noise then does not average out over passes or frames
-    rng = mi.PCG32(n * paths)
-    s = dr.gather(mi.UInt64, seed, 0)
-    key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
-    rng.seed(mi.sample_tea_64(stream, key), mi.UInt64(stream))
-    L, first_light, rays = _paths(scene, ray, si, rng, config, path_active, first, Lobes.of(effects), max_depth,
-                                  rr_depth, hide_emitters)
+    lanes = (primary or gathered(ray, si, obj, first_config if len(first) > 1 else None))(
+        path_pixel, path_active, path_active & (stream % paths == 0))
+    if first:
+        # one stream per pixel (and path), whatever else is traced: seed() (unlike the constructor)
+        # adds no lane offset. The initial state is hashed from (stream, pass seed) with TEA, as
+        # Mitsuba's samplers do: PCG32 states that differ by a small constant (pass 0, 1, 2, ...) give
+        # correlated sequences, whose noise then does not average out over passes or frames
+        rng = mi.PCG32(n * paths)
+        s = dr.gather(mi.UInt64, seed, 0)
+        key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
+        rng.seed(mi.sample_tea_64(stream, key), mi.UInt64(stream))
+        L, first_light, rays = _paths(scene, lanes.ray, lanes.si, rng, lanes.config if len(first) > 1 else None,
+                                      lanes.traced, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
+    else:  # no object deserves any effect: the lanes are there for their primary hits alone
+        L, first_light, rays = dr.zeros(mi.Color3f, n * paths), None, [dr.zeros(mi.UInt32, n * paths) for _ in RAY_KINDS]
     first_light = first_light if keep_direct else None  # not written by the kernel where no one reads it
-    dr.eval(L, first_light, rays)  # one kernel: the loop runs once for all
-    if paths > 1:  # each pixel's mean; its rays, all of them
+    dr.eval(L, first_light, rays, lanes.object, lanes.traced)  # one kernel: the loop runs once for all
+    objects, busy = lanes.object, lanes.traced
+    if paths > 1:  # each pixel's mean; its rays, all of them; its object and whether it was traced, once
         L, first_light = (None if c is None else dr.block_sum(c, paths) / paths for c in (L, first_light))
         rays = [dr.block_sum(r, paths) for r in rays]
+        own = dr.arange(mi.UInt32, n) * paths
+        objects, busy = dr.gather(mi.UInt32, objects, own), dr.gather(mi.Bool, busy, own)
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
     direct = None if first_light is None else dr.select(traced, dr.gather(mi.Color3f, first_light, slot, traced), 0.0)
-    objects = dr.gather(mi.UInt32, obj, pixel, active)
     per_object = DeviceSums(mi.UInt32, len(RAY_KINDS) * width + 1)
     for k, r in enumerate(rays):
-        per_object.add(r, k * width + objects, active)
-    per_object.add(mi.UInt32(1), mi.UInt32(len(RAY_KINDS) * width), active)
+        per_object.add(r, k * width + objects, busy)
+    per_object.add(mi.UInt32(1), mi.UInt32(len(RAY_KINDS) * width), busy)
     return radiance, direct, TraceCounts(per_object=per_object.total())
 
 

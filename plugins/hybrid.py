@@ -5,6 +5,7 @@
     <integrator type="hybrid">
         <string name="primary" value="raster"/>        <!-- or "raytrace": the pure RT baseline -->
         <string name="raster" value="auto"/>           <!-- or "draw", "compute" -->
+        <string name="refine" value="primary"/>        <!-- or "trace" -->
         <string name="effects" value="shadow, reflection, refraction, indirect"/>
         <string name="candidates" value="mirror_sphere, glass_sphere"/>  <!-- default: all shapes -->
         <float name="blend" value="1"/>                <!-- composition weight of the RT layer -->
@@ -35,6 +36,15 @@ Properties
                  default: ``compute`` on a CUDA variant, where it is 1.5–9× faster than the draw on
                  the H100, and ``draw`` on the CPU's llvmpipe). Both give the same visibility
                  buffer up to ties on shared edges and coplanar faces.
+``refine``       where the raster's *refined* pixels (silhouettes, analytic shapes' proxies, raster
+                 misses: their camera ray is traced, ``hybrid_integrator/primary.py``) are traced:
+                 ``primary`` (the default), masked in the primary stage's kernel; or ``trace``,
+                 inside the trace stage's launch, launched first, with their lighting and
+                 selection: the primary stage then traces no ray. The images are the same. On the
+                 CPU ``trace`` is slower (the 226 objects at 320×180: trace kernel 34.4 → 40–44 ms
+                 for a primary stage 0.9 ms shorter); on an H200, a kernel that traces any ray was
+                 measured to cost 0.2–0.6 ms whatever its number of rays, which ``trace`` saves
+                 once per pass (not yet measured as a whole frame: ``scripts/refine_ab.py``).
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect`` (default:
                  all four, with which the traced pixels are Mitsuba's ``path`` estimator and
                  converge to it; the paper's effects are the first three).

@@ -48,6 +48,49 @@ def test_refined_raster_hits_are_the_camera_rays_hits(name):
         assert np.all(np.abs(t_ours - t_theirs) <= 1e-4 * np.maximum(t_theirs, 1.0))
 
 
+REFINE_CASES = {
+    # analytic shapes' proxies; AOVs; the denoiser's guides
+    "analytic spheres": ("analytic spheres", dict(aovs=("normal", "albedo", "position"))),
+    # refined pixels of objects that are not traced; two paths per traced pixel
+    "showcase, some candidates": ("showcase", dict(candidates="bunny, sphere_clear, floor", secondary_spp=2, denoise=False)),
+    "default, no candidate": ("default", dict(candidates="")),
+    "default, temporal": ("default", dict(temporal=True, frames=2)),
+}
+
+
+@pytest.mark.parametrize("case", list(REFINE_CASES))
+def test_refined_pixels_traced_in_the_trace_launch_give_the_same_frame(case):
+    """``refine="trace"`` traces the raster's refined pixels (silhouettes, proxies, misses) inside
+    the trace stage's launch, with their lighting and selection, instead of in the primary stage's
+    kernel: the frames are the same (images, layers, AOVs, rays and counts), and the primary stage
+    then traces no ray (the LLVM backend marks a ray-tracing call in its kernel's IR)."""
+    name, options = REFINE_CASES[case]
+    path, params = PRIMARY_SCENES[name]
+    scene = load(path, **params)
+    options = dict(options)
+    aovs, frames = options.pop("aovs", ()), options.pop("frames", 1)
+    results, tracing = {}, {}
+    for refine in ("primary", "trace"):
+        integrator = hi.api._integrator(dict(options, refine=refine))
+        for k in range(frames):
+            results[refine] = integrator.render_result(scene, spp=2, seed=5 + k, aovs=aovs)
+        kernels = hi.api.renderer(scene).clock.last
+        tracing[refine] = [stage for stage, entry in kernels if "Ray trace" in _ir(entry)]
+    ours, theirs = results["trace"], results["primary"]
+    for field in ("rays", "pixels_traced", "proxy_refinements", "edge_refinements", "selected"):
+        assert getattr(ours.stats, field) == getattr(theirs.stats, field), field
+    assert ours.stats.edge_refinements + ours.stats.proxy_refinements > 0
+    assert np.allclose(np.array(ours.image), np.array(theirs.image), rtol=1e-5, atol=1e-6)
+    for layer in theirs.layers:
+        assert np.allclose(ours.layers[layer], theirs.layers[layer], rtol=1e-5, atol=1e-6), layer
+    assert "raster" in tracing["primary"] and "raster" not in tracing["trace"] and "trace" in tracing["trace"]
+
+
+def _ir(entry: dict) -> str:
+    ir = entry.get("ir")
+    return ir.getvalue() if hasattr(ir, "getvalue") else str(ir or "")
+
+
 @pytest.mark.parametrize("name", list(PRIMARY_SCENES))
 def test_raster_primaries_match_camera_rays(name):
     """Same seed and spp: the hybrid and the pure ray-tracing baseline differ only where the raster's
@@ -206,6 +249,7 @@ def test_raster_layer_lights_a_diffuse_floor_like_mitsuba(light):
 def test_bad_properties_are_clear_errors():
     cases = [({"effects": "glow"}, "unknown effect"), ({"primary": "camera"}, "primary='camera' is not one of"),
              ({"raster": "hardware"}, "raster='hardware' is not one of"),
+             ({"refine": "later"}, "refine='later' is not one of"),
              ({"blend": 1.5}, r"blend=1.5 must lie in \[0, 1\]"), ({"budget_ms": -1.0}, "budget_ms=-1.0 is impossible"),
              ({"budget_ms": float("nan")}, "budget_ms=nan is impossible"), ({"max_depth": -3}, "max_depth=-3"),
              ({"colour": 1}, "has no property 'colour'")]

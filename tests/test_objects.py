@@ -138,13 +138,19 @@ def test_next_seeds_offsets_made_ahead_are_the_same_frame():
 
 
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])
-def test_compaction_puts_the_first_lanes_first(n, density):
-    """With ``first``, the set lanes also set in ``first`` come first, each part in pixel order (a
-    stable partition: the trace launches its long paths first)."""
+@pytest.mark.parametrize("groups", [1, 2])
+def test_compaction_puts_the_first_lanes_first(n, density, groups):
+    """With ``first`` masks, the set lanes of the first come first, then those of the second not
+    in the first, then the rest, each part in pixel order (a stable partition: the trace launches
+    its re-traced primaries, then its long paths, first)."""
     rng = np.random.default_rng(n + 1)
-    mask, first = rng.random(n) < density, rng.random(n) < 0.4
-    index, active, slot = compact(mi.Bool(mask), mi.Bool(first))
-    expected = np.r_[np.nonzero(mask & first)[0], np.nonzero(mask & ~first)[0]]
+    mask, first = rng.random(n) < density, [rng.random(n) < 0.4 for _ in range(groups)]
+    index, active, slot = compact(mi.Bool(mask), *(mi.Bool(f) for f in first), None)
+    taken, expected = np.zeros(n, dtype=bool), []
+    for part in [*first, np.ones(n, dtype=bool)]:
+        expected.append(np.nonzero(mask & part & ~taken)[0])
+        taken |= part
+    expected = np.concatenate(expected)
     assert np.array_equal(np.array(active), np.arange(n) < len(expected))
     assert np.array_equal(np.array(index)[:len(expected)], expected)
     assert np.array_equal(np.array(slot)[expected], np.arange(len(expected)))
