@@ -304,6 +304,13 @@ class PassStatic:
     #: long paths first)
     long_first: bool = False
 
+    @property
+    def kept(self) -> tuple[str, ...]:
+        """The G-buffer targets read after the lighting: the albedo, the denoiser's guides, the
+        history's surface and the AOVs asked for."""
+        return tuple(dict.fromkeys(["albedo", *(("specular", "normal") if self.guides else ()),
+                                    *(("position", "normal") if self.surface else ()), *self.aovs]))
+
 
 @dataclass
 class PassData:
@@ -365,12 +372,15 @@ class PixelTerms:
     object: mi.UInt32
     valid: mi.Bool
     depth: mi.Float  # the hit's distance from the eye (coverage, heuristic.py)
-    targets: dict  # the G-buffer targets (gbuffer.aov_values), one array per channel
+    targets: dict  # the G-buffer targets read later (PassStatic.kept, gbuffer.aov_values), one array per channel
     shaded: mi.Color3f  # the deferred lighting, without the learnt ambient term
-    albedo: mi.Color3f
     raster: mi.Color3f  # the raster layer: the deferred lighting with the ambient term (Fig. 1g)
     traced: mi.Bool  # the selection (selection.select_pixels)
     config: mi.UInt32
+
+    @property
+    def albedo(self) -> mi.Color3f:
+        return mi.Color3f(*self.targets["albedo"])
 
 
 def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye: mi.Point3f) -> tuple[PixelTerms, mi.Bool]:
@@ -383,8 +393,9 @@ def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye
     albedo = mi.Color3f(*targets["albedo"])
     selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
                               static.has_emitters)
-    return PixelTerms(object=hits.object, valid=hits.valid, depth=dr.norm(hits.si.p - eye), targets=targets,
-                      shaded=shaded, albedo=albedo, raster=with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient),
+    return PixelTerms(object=hits.object, valid=hits.valid, depth=dr.norm(hits.si.p - eye),
+                      targets={k: targets[k] for k in static.kept}, shaded=shaded,
+                      raster=with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient),
                       traced=selection.traced, config=selection.config), selection.long
 
 

@@ -41,10 +41,11 @@ Properties
                  ``primary`` (the default), masked in the primary stage's kernel; or ``trace``,
                  inside the trace stage's launch, launched first, with their lighting and
                  selection: the primary stage then traces no ray. The images are the same. On the
-                 CPU ``trace`` is slower (the 226 objects at 320×180: trace kernel 34.4 → 40–44 ms
-                 for a primary stage 0.9 ms shorter); on an H200, a kernel that traces any ray was
-                 measured to cost 0.2–0.6 ms whatever its number of rays, which ``trace`` saves
-                 once per pass (not yet measured as a whole frame: ``scripts/refine_ab.py``).
+                 CPU ``trace`` is 1.6–3.1 % slower per frame (the primary stage 1.7–3.0 ms shorter,
+                 the trace stage 3.1–5.2 ms longer: ``docs/results/cpu/refine``); on an H200, a
+                 kernel that traces any ray was measured to cost 0.2–0.6 ms whatever its number of
+                 rays, which ``trace`` saves once per pass (not yet measured as a whole frame:
+                 ``scripts/refine_ab.py``).
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect`` (default:
                  all four, with which the traced pixels are Mitsuba's ``path`` estimator and
                  converge to it; the paper's effects are the first three).
