@@ -57,7 +57,16 @@ def summary(frames: list[dict], budget: float) -> dict:
             "mean_relevance_captured": float(np.mean([f["relevance_captured"] for f in measured])),
             "mean_selection_changes": float(np.mean([f["selection_changes"] for f in measured[1:]])),
             "mean_selected": float(np.mean([f["selected"] for f in measured])),
-            "mean_visible": float(np.mean([f["visible"] for f in measured]))}
+            "mean_visible": float(np.mean([f["visible"] for f in measured])),
+            **rays_predicted(measured)}
+
+
+def rays_predicted(frames: list[dict]) -> dict:
+    """How the secondary rays a frame traced compare with those its plan expected (the frames
+    that expected some): the median ratio and the fraction of frames over 1.5×."""
+    ratio = np.array([f["secondary_rays"] / f["predicted_rays"] for f in frames if f["predicted_rays"] > 0])
+    return {"median_rays_over_predicted": float(np.median(ratio)) if len(ratio) else float("nan"),
+            "frames_rays_over_1_5": float(np.mean(ratio > 1.5)) if len(ratio) else float("nan")}
 
 
 def main() -> None:

@@ -98,6 +98,28 @@ def test_learnt_rays_and_effects_filter():
     assert object_relevance(empty, [("shadow",)], ["a"], ("shadow",), set(), 0.0, {}) == []
 
 
+def test_an_object_never_traced_expects_what_the_traced_ones_spawned():
+    """The prior rays per pixel of an object never traced (heuristic.typical_rays): per kind, the
+    median of the learnt objects that deserve it (a shadow tier: shadow only); the fixed prior for
+    a kind no learnt object deserves."""
+    from hybrid_integrator.heuristic import PRIOR_RAYS_PER_PIXEL, typical_rays
+
+    active = np.array([[1, 0, 0, 1], [1, 0, 0, 1], [1, 0, 0, 1], [1, 0, 1, 0]], dtype=bool)
+    table = np.full((6, len(KINDS)), np.nan)
+    table[0] = [2.0, 0.1, 0.0, 1.6]
+    table[1] = [3.0, 0.2, 0.0, 2.0]
+    table[5] = [5.0, 0.0, 0.0, 0.0]  # the shadow tier of object 1
+    prior = typical_rays(table, active)
+    # shadow: objects 0, 1 and object 1's tier; indirect: objects 0 and 1; reflection: no object
+    # deserves it; refraction: object 3 does, never traced
+    assert prior.tolist() == [3.0, PRIOR_RAYS_PER_PIXEL["reflection"], PRIOR_RAYS_PER_PIXEL["refraction"], 1.8]
+    cov = synthetic_buffer()
+    objects = object_relevance(cov, [("shadow", "indirect"), ("shadow", "indirect")], ["a", "b"],
+                               ("shadow", "indirect"), set(), 0.0, rays_per_pixel={1: {"shadow": 2.5, "indirect": 1.5}})
+    assert {o.index: o.rays for o in objects}[0] == {"shadow": 4 * 2.5, "indirect": 4 * 1.5}
+    assert typical_rays(np.empty((0, len(KINDS))), active).tolist() == [PRIOR_RAYS_PER_PIXEL[k] for k in KINDS]
+
+
 def test_candidate_parser():
     scene = load(DEFAULT_SCENE)
     ids = hi.scene_objects(scene).names
