@@ -181,12 +181,28 @@ def test_plan_fits_the_budget():
     assert plan_frame(objects, "exact", 0.1, 1, model).traced == set()
 
 
+class _SteadyMargin(CostModel):
+    """A cost model whose margin is always 4 (the largest ``_fit`` sets)."""
+
+    @property
+    def margin(self) -> float:
+        return 4.0
+
+    @margin.setter
+    def margin(self, value: float) -> None:
+        pass
+
+
 def test_calibrated_budget_plans_the_next_frame_ahead():
     """Once the cost model is calibrated, a budgeted frame plans the next one at its end (while the
     GPU denoises): the next frame's selection spends no planning of its own, unless its settings
     changed."""
     scene = load(DEFAULT_SCENE)
     integrator = hi.api._integrator({"budget_ms": 1000.0, "denoise": False})
+    # a model whose margin stays at its largest: a trace's noise on this shared CPU then never
+    # exceeds its prediction (which drops the plan made ahead, by design, in ~5 % of frames, and
+    # more often after four observations: this test failed 4 times in 10 alone before)
+    integrator.state.cost_model = _SteadyMargin()
     for seed in range(5):  # the first three probe the machine
         integrator.render_result(scene, seed=seed, spp=1, layers=False)
     renderer = hi.api.renderer(scene)
