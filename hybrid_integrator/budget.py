@@ -192,6 +192,9 @@ class FrameState:
     rays_per_pixel: np.ndarray = field(default_factory=lambda: np.empty((0, len(KINDS))))
     #: the objects' coverage in the last frame (``heuristic.Coverage``): what the next frame plans from
     coverage: object | None = None
+    #: per object, how its pixels grew from the frame before the last to the last
+    #: (``heuristic.pixel_growth``; None: no such pair of frames)
+    growth: np.ndarray | None = None
     #: the accumulated frames (``temporal.History``), with ``temporal`` on
     history: object | None = None
     #: per row, the mean square of the error tracing removed, per traced pixel (heuristic.py,

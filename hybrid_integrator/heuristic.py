@@ -17,7 +17,8 @@ non-candidates; ``""`` means none.
   (1 at the image centre c, 0 at the corners; 0 when it is not in view);
 - D_k = its mean depth / the mean depth of all visible pixels (dimensionless, 1 = typical);
 - **V_k = A_k · P_k / D_k** (eq. 1), in [0, 1] for an object at typical depth;
-- Q_k = Σ_kind n_k · rays_per_pixel(k, kind): the secondary rays it will cost, with rays per
+- Q_k = Σ_kind n_k · g_k · rays_per_pixel(k, kind): the secondary rays it will cost (g_k: how
+  its pixels grew over the last two frames, :func:`pixel_growth`, 1 for a still camera), with rays per
   pixel per kind learnt from the rays its paths spawned when k was last traced, at every depth
   (a glass object's paths also cast shadow rays where they reach a diffuse surface); before k is
   first traced, a prior for its own kinds: per kind, the median of what the objects traced so far
@@ -407,8 +408,22 @@ def typical_rays(rays_table: np.ndarray, active: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
+#: the most an object's pixels are expected to grow from one frame to the next (pixel_growth)
+MAX_GROWTH = 2.0
+
+
+def pixel_growth(before: Coverage, last: Coverage) -> np.ndarray:
+    """Per object, the factor by which the next frame is expected to show more of it than ``last``:
+    its pixels' growth from ``before`` to ``last`` (the camera moving on as it moved), at least 1
+    (an object that shrank is planned at its last pixels: a plan errs on the side of the budget)
+    and at most :data:`MAX_GROWTH`; 1 for an object not seen in both."""
+    old, new = before.pixels.astype(np.float64), last.pixels.astype(np.float64)
+    return np.clip(np.divide(new, old, out=np.ones_like(new), where=(old > 0) & (new > 0)), 1.0, MAX_GROWTH)
+
+
 def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], importance: float,
-               rays_table: np.ndarray, errors: np.ndarray | None = None, tiers: np.ndarray | None = None) -> Candidates:
+               rays_table: np.ndarray, errors: np.ndarray | None = None, tiers: np.ndarray | None = None,
+               growth: np.ndarray | None = None) -> Candidates:
     """Eq. 1–3 for every candidate visible in a visibility buffer (its :func:`coverage`).
     ``rays_table`` holds the learnt rays per pixel (rows × kinds, NaN rows: never traced, which
     take the prior of their own kinds) and ``errors`` the learnt error per row (``relevance="error"``).
@@ -417,7 +432,11 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     traces only their shadow rays and takes their indirect light from the cheap model (the learnt
     indirect term, ``lighting.py``), at a fraction of the full row's cost. Its terms are learnt in
     the rows after the objects' (``Candidates.keys``); a larger budget only adds rows, so an
-    object goes from nothing to its shadow tier to every effect."""
+    object goes from nothing to its shadow tier to every effect.
+
+    ``growth`` (per object, :func:`pixel_growth`) scales the pixels its rays are expected from: a
+    moving camera's next frame shows more of the objects it approaches or turns towards than the
+    last frame did (§4.3's coherence, to first order)."""
     n = len(cov.pixels)
     terms = visibility_terms(cov, active, selected_last, importance)
     index = np.nonzero(terms.candidate)[0]
@@ -435,8 +454,9 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     per_pixel = np.where(np.isfinite(learnt).any(axis=1, keepdims=True), np.nan_to_num(learnt), prior)
     pixels = cov.pixels[index]
     relevance = _bonus(n, selected_last, importance)[index] + terms.visibility[index] * weights
+    expected = pixels if growth is None else pixels * growth[index]
     return Candidates(index=index, pixels=pixels, visibility=terms.visibility[index], relevance=relevance,
-                      rays=pixels[:, None] * per_pixel, terms=terms, tier=tier)
+                      rays=expected[:, None] * per_pixel, terms=terms, tier=tier)
 
 
 def object_relevance(cov: Coverage, kinds: list[tuple[str, ...]], names: list[str],

@@ -47,7 +47,7 @@ from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
 from .frozen import FrozenFunction, FrozenScene
 from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, candidate_kinds, candidates,
-                        coverage_sums, default_kinds, visibility_terms)
+                        coverage_sums, default_kinds, pixel_growth, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
 from .primary import camera_rays, primary_hits, raster_hits, retrace, traced_hits
@@ -754,8 +754,9 @@ class HybridRenderer:
 
     def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:
         """Eq. 1–3 from a coverage, then the selection within the budget."""
+        growth = state.growth if cov is state.coverage else None  # the growth that led to ``cov``
         c = candidates(cov, frame.active, state.selected, settings.importance, state.rays_per_pixel,
-                       self._errors(settings, state), frame.tiers)
+                       self._errors(settings, state), frame.tiers, growth)
         return plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
@@ -886,6 +887,9 @@ class HybridRenderer:
         stats.selected = tuple(self.objects.names[k] for k in ordered.tolist())
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)
+        last = state.coverage
+        state.growth = pixel_growth(last, cov) if isinstance(last, Coverage) and len(last.pixels) == len(cov.pixels) \
+            and (last.width, last.height) == (cov.width, cov.height) else None
         state.coverage = cov
         # the next frame's plan from what this one taught, while the GPU still denoises it (once the
         # cost model has passed its probe frames, whose sizes follow its observations one by one)

@@ -120,6 +120,49 @@ def test_an_object_never_traced_expects_what_the_traced_ones_spawned():
     assert typical_rays(np.empty((0, len(KINDS))), active).tolist() == [PRIOR_RAYS_PER_PIXEL[k] for k in KINDS]
 
 
+def test_a_moving_camera_plans_the_pixels_an_object_gains():
+    """An object whose pixels grew from the frame before the last to the last is expected to grow
+    as much again (heuristic.pixel_growth: at least 1, at most MAX_GROWTH; 1 where it was not seen
+    in both), and its expected rays with it; a budgeted sequence carries that growth."""
+    from hybrid_integrator.api import transform_matrix
+    from hybrid_integrator.heuristic import MAX_GROWTH, candidates, pixel_growth
+
+    def cov_of(pixels: list[int]) -> Coverage:
+        shape_index = -np.ones((16, 16), dtype=np.int64)
+        flat = shape_index.reshape(-1)
+        start = 0
+        for k, n in enumerate(pixels):
+            flat[start:start + n] = k
+            start += n
+        return buffer_coverage(shape_index, np.where(shape_index >= 0, 2.0, np.inf).astype(np.float32), len(pixels))
+
+    before, last = cov_of([10, 20, 30, 0, 8]), cov_of([15, 60, 20, 5, 0])
+    growth = pixel_growth(before, last)
+    assert growth.tolist() == [1.5, MAX_GROWTH, 1.0, 1.0, 1.0]
+    active = np.ones((5, len(KINDS)), dtype=bool)
+    table = np.full((5, len(KINDS)), np.nan)
+    table[:4] = [1.0, 0.0, 0.0, 1.0]
+    plain = candidates(last, active, set(), 0.0, table)
+    grown = candidates(last, active, set(), 0.0, table, growth=growth)
+    assert np.allclose(grown.rays, plain.rays * growth[plain.index, None])
+    assert np.array_equal(grown.pixels, plain.pixels) and np.allclose(grown.relevance, plain.relevance)
+    scene = load(DEFAULT_SCENE)
+    cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 3)
+    integrator = hi.api._integrator({"budget_ms": 50.0})
+    params = mi.traverse(scene.sensors()[0])
+    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
+    try:
+        for k, camera in enumerate(cameras):
+            params["to_world"] = camera
+            params.update()
+            integrator.render_result(scene, seed=k, spp=1, layers=False)
+            assert (integrator.state.growth is None) == (k == 0)
+    finally:
+        params["to_world"] = original
+        params.update()
+    assert integrator.state.growth.max() > 1.0  # the camera came closer
+
+
 def test_candidate_parser():
     scene = load(DEFAULT_SCENE)
     ids = hi.scene_objects(scene).names
