@@ -129,25 +129,38 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
     return load_scene(spec, **used), Path(spec).stem
 
 
-def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3) -> dict:
-    """RT baseline / all-candidates hybrid, frame by frame (module docstring): two integrators
-    with these ``properties``, one with ``primary="raytrace"``, each carrying its own state, render
-    ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for both; the first of a pair
-    alternates, so neither always follows the other). Returns the median ratio of the measured
-    pairs, its quartiles, and each side's median frame time."""
+def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
+                   warmup: int = 3) -> dict[str, list[dict]]:
+    """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
+    rendering ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for all in round k; the
+    order rotates from round to round, so that none always follows another). Returns, per side,
+    the ``times_ms`` of its measured frames."""
     from .api import _integrator
 
-    integrators = {"hybrid": _integrator(dict(properties)), "rt": _integrator(dict(properties, primary="raytrace"))}
-    times: dict[str, list[float]] = {"hybrid": [], "rt": []}
+    integrators = {name: _integrator(dict(props)) for name, props in sides.items()}
+    times: dict[str, list[dict]] = {name: [] for name in sides}
+    order = list(sides)
     for k in range(warmup + frames):
-        for side in ("hybrid", "rt") if k % 2 == 0 else ("rt", "hybrid"):
-            result = integrators[side].render_result(scene, seed=seed + k, spp=spp, layers=False)
+        for name in order:
+            result = integrators[name].render_result(scene, seed=seed + k, spp=spp, layers=False)
             if k >= warmup:
-                times[side].append(result.stats.times_ms["total"])
-    ratios = np.asarray(times["rt"]) / np.asarray(times["hybrid"])
+                times[name].append(result.stats.times_ms)
+        order = order[1:] + order[:1]
+    return times
+
+
+def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3) -> dict:
+    """RT baseline / all-candidates hybrid, frame by frame (module docstring): the two integrators
+    with these ``properties``, one with ``primary="raytrace"``, render in turn
+    (:func:`frames_in_turn`). Returns the median ratio of the measured pairs, its quartiles, and
+    each side's median frame time."""
+    times = frames_in_turn(scene, {"hybrid": properties, "rt": dict(properties, primary="raytrace")}, frames, spp,
+                           seed, warmup)
+    total = {side: [t["total"] for t in times[side]] for side in times}
+    ratios = np.asarray(total["rt"]) / np.asarray(total["hybrid"])
     q25, median, q75 = (float(q) for q in np.percentile(ratios, [25, 50, 75]))
     return {"median": median, "q25": q25, "q75": q75, "pairs": int(len(ratios)),
-            "hybrid_ms": statistics.median(times["hybrid"]), "rt_ms": statistics.median(times["rt"])}
+            "hybrid_ms": statistics.median(total["hybrid"]), "rt_ms": statistics.median(total["rt"])}
 
 
 def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int = 1, gt_spp: int = 1024,

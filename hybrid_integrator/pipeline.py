@@ -441,19 +441,20 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
     # 2. deferred lighting: the raster layer (§3.1, Fig. 1g); 3. selection (§4)
     terms, long = surface_terms(scene, hits, data, static, eye)
-    # (what stage 4 writes the refined pixels' own terms into must be evaluated: ``refined_lanes``)
-    clock.mark("lighting", terms.raster, terms.shaded, terms.albedo, *((terms.targets, terms.depth) if late else
-                                                                       ([terms.targets[k] for k in static.aovs],)))
+    # (late, stage 4 writes the refined pixels' own terms into them: they must be evaluated first)
+    kept = (terms.targets, terms.depth) if late else [terms.targets[k] for k in static.aovs]
+    clock.mark("lighting", terms.raster, terms.shaded, terms.albedo, kept)
     clock.mark("select", terms.traced, terms.config, long if static.long_first else None)
     # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
-    rt, direct, counts = trace_effects(scene, hits.ray, hits.si, terms.traced | (hits.refined > 0) if late else terms.traced,
+    refined = hits.refined > 0 if late else None  # traced in stage 4's launch, first
+    rt, direct, counts = trace_effects(scene, hits.ray, hits.si, terms.traced | refined if late else terms.traced,
                                        static.effects, static.max_depth, static.rr_depth, static.hide_emitters,
                                        seed=seed, obj=hits.object, n_objects=static.n_objects,
                                        first_effects=static.configs, first_config=terms.config,
                                        keep_direct=bool(static.modelled), paths=static.secondary_spp,
                                        long=long if static.long_first else None,
                                        primary=refined_lanes(scene, hits, terms, data, static, eye) if late else None,
-                                       primary_first=hits.refined > 0 if late else None)
+                                       primary_first=refined)
     # coverage (eq. 1), then the refined pixels: proxies, silhouettes and misses
     sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=2)
     n = max(static.n_objects, 1)

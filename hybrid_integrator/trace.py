@@ -167,13 +167,16 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
     else:  # no object deserves any effect: the lanes are there for their primary hits alone
         L, first_light, rays = dr.zeros(mi.Color3f, n * paths), None, [dr.zeros(mi.UInt32, n * paths) for _ in RAY_KINDS]
     first_light = first_light if keep_direct else None  # not written by the kernel where no one reads it
-    dr.eval(L, first_light, rays, lanes.object, lanes.traced)  # one kernel: the loop runs once for all
-    objects, busy = lanes.object, lanes.traced
-    if paths > 1:  # each pixel's mean; its rays, all of them; its object and whether it was traced, once
+    # one kernel: the loop runs once for all (with ``primary``, also what its lanes found)
+    dr.eval(L, first_light, rays, *(() if primary is None else (lanes.object, lanes.traced)))
+    if primary is None:  # every busy lane is traced: each pixel's object as given
+        objects, busy = dr.gather(mi.UInt32, obj, pixel, active), active
+    else:  # each pixel's object and whether it was traced, from its first path's lane
+        own = dr.arange(mi.UInt32, n) * paths
+        objects, busy = dr.gather(mi.UInt32, lanes.object, own), dr.gather(mi.Bool, lanes.traced, own)
+    if paths > 1:  # each pixel's mean; its rays, all of them
         L, first_light = (None if c is None else dr.block_sum(c, paths) / paths for c in (L, first_light))
         rays = [dr.block_sum(r, paths) for r in rays]
-        own = dr.arange(mi.UInt32, n) * paths
-        objects, busy = dr.gather(mi.UInt32, objects, own), dr.gather(mi.Bool, busy, own)
     radiance = dr.select(traced, dr.gather(mi.Color3f, L, slot, traced), 0.0)  # back to each pixel's lane
     direct = None if first_light is None else dr.select(traced, dr.gather(mi.Color3f, first_light, slot, traced), 0.0)
     per_object = DeviceSums(mi.UInt32, len(RAY_KINDS) * width + 1)

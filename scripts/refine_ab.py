@@ -1,9 +1,8 @@
 """Probe: where the raster's refined pixels are traced (``refine``: ``primary`` or ``trace``),
 against each other and the RT baseline, in one process: per scene, the three integrators render
-``--repeats`` frames in turn after three warm-up rounds (the order rotating from round to round,
-seed k for all three in round k), and the medians of their frame times, of the paired ratios
-``primary / trace`` and ``RT / hybrid`` (Gain), and of the device time per stage are printed as a
-Markdown table.
+``--repeats`` frames in turn after three warm-up rounds (``bench.frames_in_turn``), and the
+medians of their frame times, of the paired ratios ``primary / trace`` and ``RT / hybrid``
+(Gain), and of the device time per stage are printed as a Markdown table.
 
     python3 scripts/refine_ab.py --variant cuda_ad_rgb --repeats 21 SCENE... -D resx=1280 -D resy=720
 """
@@ -23,23 +22,14 @@ def main() -> None:
 
     args = arguments(__doc__)
     mi.set_variant(args.variant)
-    from hybrid_integrator.api import _integrator
-    from hybrid_integrator.bench import load_bench_scene
+    from hybrid_integrator.bench import frames_in_turn, load_bench_scene
 
     print(f"| scene | frame, primary | frame, trace | RT | primary / trace | Gain, primary | Gain, trace "
           f"| {' | '.join(f'{s}: primary / trace' for s in STAGES)} |")
     print("|---" * (6 + len(STAGES)) + "|---|")
     for spec in args.scenes:
         scene, name = load_bench_scene(spec, dict(d.split("=", 1) for d in args.defines))
-        integrators = {side: _integrator(dict(props)) for side, props in SIDES.items()}
-        frames = {side: [] for side in SIDES}
-        order = list(SIDES)
-        for k in range(3 + args.repeats):
-            for side in order:
-                stats = integrators[side].render_result(scene, seed=k, spp=1, layers=False).stats
-                if k >= 3:
-                    frames[side].append(stats.times_ms)
-            order = order[1:] + order[:1]
+        frames = frames_in_turn(scene, SIDES, args.repeats, 1, 0)
         total = {side: np.array([t["total"] for t in frames[side]]) for side in SIDES}
 
         def median(side, key):
