@@ -36,8 +36,9 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--primary", choices=("raster", "raytrace"), help="where primary hits come from")
     g.add_argument("--raster", choices=("auto", "draw", "compute"),
                    help="how the raster pass rasterizes: OpenGL's draw or compute shaders (default: auto, compute on CUDA)")
-    g.add_argument("--refine", choices=("primary", "trace"),
-                   help="where the raster's refined pixels (silhouettes, proxies, misses) are traced")
+    g.add_argument("--refine", choices=("auto", "primary", "trace"),
+                   help="where the raster's refined pixels (silhouettes, proxies, misses) are traced "
+                        "(default: auto, the trace stage's launch on CUDA)")
     g.add_argument("--effects", help="comma list of shadow, reflection, refraction, indirect")
     g.add_argument("--candidates", help="comma list of shape ids to ray trace ('' for none)")
     g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")

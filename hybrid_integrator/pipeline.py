@@ -50,23 +50,38 @@ from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, ca
                         coverage_sums, default_kinds, pixel_growth, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
-from .primary import camera_rays, primary_hits, raster_hits, retrace, traced_hits
+from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolved, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.interop import HostCopy, device_array
 from .raster.visibility import Rasterizer, TriangleTables, resolve_method
-from .selection import DEFAULT_EFFECTS, parse_effects, refracts, select_pixels
+from .selection import DEFAULT_EFFECTS, Selection, parse_effects, refracts, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
 from .trace import RAY_KINDS, LaneHits, LanePrimary, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
 #: where the raster's refined pixels (primary.py: silhouettes, proxies, misses) are traced
-REFINE_STAGES = ("primary", "trace")
+REFINE_STAGES = ("auto", "primary", "trace")
 STAGES = ("raster", "lighting", "select", "trace", "compose", "temporal", "denoise")
 SHADOW_ONLY = ("shadow",)  # the effect set of a shadow tier (heuristic.candidates)
 HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
+
+
+def resolve_refine(refine: str) -> str:
+    """``refine`` (:data:`REFINE_STAGES`) with ``auto`` resolved for the current variant: on CUDA the
+    trace stage's launch (``trace``: on an H200 a kernel that traces any ray costs its traversal's
+    latency, which the primary stage's re-trace of a few pixels then saves: on an H200 the frames of
+    the four bench scenes were 0.99–1.06× as fast as ``primary``'s, 1.7 % faster on average, those
+    of the 226 objects 0.98×, ``docs/results/gpu/issue10/stop33``),
+    on the CPU the primary stage (``primary``: there the trace kernel grows by more than the primary
+    stage saves, ``docs/results/cpu/refine``)."""
+    if refine not in REFINE_STAGES:
+        raise HybridError(f"refine='{refine}' is not one of {list(REFINE_STAGES)}")
+    if refine == "auto":
+        return "trace" if (mi.variant() or "").startswith("cuda") else "primary"
+    return refine
 
 
 @dataclass(frozen=True)
@@ -78,7 +93,7 @@ class HybridSettings:
     hide_emitters: bool = False
     primary: str = "raster"
     raster: str = "auto"
-    refine: str = "primary"
+    refine: str = "auto"
     effects: tuple[str, ...] = DEFAULT_EFFECTS
     candidates: object = None  # None: every object; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
@@ -108,8 +123,7 @@ class HybridSettings:
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
         resolve_method(self.raster)  # a clear error for an unknown method
-        if self.refine not in REFINE_STAGES:
-            raise HybridError(f"refine='{self.refine}' is not one of {list(REFINE_STAGES)}")
+        resolve_refine(self.refine)  # a clear error for an unknown stage
         object.__setattr__(self, "effects", parse_effects(self.effects))
         if self.denoise_quality not in QUALITIES:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
@@ -270,7 +284,7 @@ class PassStatic:
     width: int
     height: int
     primary: str
-    refine: str  # where the raster's refined pixels are traced (HybridSettings.refine)
+    refine: str  # where the raster's refined pixels are traced: primary or trace (resolve_refine)
     effects: tuple[str, ...]
     configs: tuple[tuple[str, ...], ...]  # the effect sets the candidates deserve
     max_depth: int
@@ -383,6 +397,11 @@ class PixelTerms:
         return mi.Color3f(*self.targets["albedo"])
 
 
+def pixel_selection(hits, data: PassData, static: PassStatic) -> Selection:
+    """Selection (stage 3, §4) at the primary hits ``hits`` (``selection.select_pixels``)."""
+    return select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs, static.has_emitters)
+
+
 def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye: mi.Point3f) -> tuple[PixelTerms, mi.Bool]:
     """Deferred lighting (stage 2, §3.1) and selection (stage 3, §4) at the primary hits ``hits``;
     also whether each hit's paths are expected to be long (``selection.long_paths``)."""
@@ -391,33 +410,35 @@ def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye
         targets["emission"] = [dr.zeros(mi.Float, dr.width(hits.valid)) for _ in range(3)]
     shaded = shade(targets, hits.valid, -hits.ray.d, data.lights)
     albedo = mi.Color3f(*targets["albedo"])
-    selection = select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs,
-                              static.has_emitters)
+    selection = pixel_selection(hits, data, static)
     return PixelTerms(object=hits.object, valid=hits.valid, depth=dr.norm(hits.si.p - eye),
                       targets={k: targets[k] for k in static.kept}, shaded=shaded,
                       raster=with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient),
                       traced=selection.traced, config=selection.config), selection.long
 
 
-def refined_lanes(scene: mi.Scene, hits, terms: PixelTerms, data: PassData, static: PassStatic,
-                  eye: mi.Point3f) -> LanePrimary:
+def refined_lanes(scene: mi.Scene, hits: PrimaryHits, chosen: Selection, data: PassData, static: PassStatic,
+                  found: mi.PreliminaryIntersection3f) -> LanePrimary:
     """The trace lanes' primary hits where the raster's refined pixels (``primary.raster_hits``)
-    are traced too: their camera rays are traced in the trace stage's launch, their lighting and
-    selection made there (:func:`surface_terms`) and written into ``terms``; the other lanes read
-    their hits and selection from the stages before."""
+    are traced in the trace stage's launch (``refine="trace"``): each refined lane traces its
+    camera ray, makes its own selection and keeps what its ray found in ``found`` (per pixel);
+    the other lanes read their hits and selection (``chosen``) from the stages before. The
+    refined pixels' lighting is made after the launch, from ``found`` (``device_pass``): inside
+    it, its code would enlarge the path kernel that every lane runs."""
     def lanes(pixel: mi.UInt32, busy: mi.Bool, first: mi.Bool) -> LaneHits:
-        lane = dr.gather(type(hits), hits, pixel, busy)
+        lane = dr.gather(PrimaryHits, hits, pixel, busy)
         again = busy & (lane.refined > 0)
-        traced = dr.gather(mi.Bool, terms.traced, pixel, busy)  # read before the refined lanes write
-        config = dr.gather(mi.UInt32, terms.config, pixel, busy)
+        traced = dr.gather(mi.Bool, chosen.traced, pixel, busy)
+        config = dr.gather(mi.UInt32, chosen.config, pixel, busy)
 
         def refine(lane, traced, config):
-            lane = retrace(scene, lane, again, data.tables)
-            own, _ = surface_terms(scene, lane, data, static, eye)
-            dr.scatter(terms, own, pixel, first)
+            pi = scene.ray_intersect_preliminary(lane.ray, False, again)
+            dr.scatter(found, pi, pixel, first)
+            lane = resolved(lane, pi, again, data.tables)
+            own = pixel_selection(lane, data, static)
             return lane, own.traced, own.config
 
-        # a branch, not a mask: the other lanes (most of them) skip the shading code
+        # a branch, not a mask: the other lanes (most of them) skip it
         lane, traced, config = dr.if_stmt((lane, traced, config), again, refine, lambda *state: state,
                                           label="refined pixels")
         return LaneHits(ray=lane.ray, si=lane.si, object=lane.object, config=config, traced=busy & traced)
@@ -431,30 +452,50 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     eye = mi.Point3f(*(dr.gather(mi.Float, data.camera, k) for k in range(2, 5)))
     seed = mi.UInt64(dr.gather(mi.UInt32, data.seed, 0)) | (mi.UInt64(dr.gather(mi.UInt32, data.seed, 1)) << 32)
     ray = camera_rays(sensor, w, h, offset)
+
+    def trace(hits: PrimaryHits, traced: mi.Bool, config: mi.UInt32, long: mi.Bool, refined: mi.Bool | None = None,
+              primary: LanePrimary | None = None):
+        """4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
+        (and the ``refined`` pixels' camera rays, with ``primary``)"""
+        return trace_effects(scene, hits.ray, hits.si, traced if refined is None else traced | refined,
+                             static.effects, static.max_depth, static.rr_depth, static.hide_emitters,
+                             seed=seed, obj=hits.object, n_objects=static.n_objects,
+                             first_effects=static.configs, first_config=config,
+                             keep_direct=bool(static.modelled), paths=static.secondary_spp,
+                             long=long if static.long_first else None, primary=primary, primary_first=refined)
+
+    def lit(hits: PrimaryHits, *kept) -> tuple[PixelTerms, mi.Bool]:
+        """2. deferred lighting: the raster layer (§3.1, Fig. 1g); 3. selection (§4)"""
+        terms, long = surface_terms(scene, hits, data, static, eye)
+        clock.mark("lighting", terms.raster, terms.shaded, terms.albedo, [terms.targets[k] for k in static.aovs],
+                   *(getattr(terms, k) for k in kept))
+        return terms, long
+
     # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8);
     # the raster's refined pixels traced here, or in stage 4's launch (``refine="trace"``)
-    late = static.primary == "raster" and static.refine == "trace"
-    if static.primary == "raster":
-        hits = (raster_hits if late else primary_hits)(scene, ray, data.triangle_id, w, h, data.tables)
+    if static.primary == "raster" and static.refine == "trace":
+        hits = raster_hits(scene, ray, data.triangle_id, w, h, data.tables)
+        clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
+        # stages 3, 4, then 2: the refined pixels' hits are found in stage 4's launch, first
+        chosen = pixel_selection(hits, data, static)
+        clock.mark("select", chosen.traced, chosen.config, chosen.long if static.long_first else None)
+        refined = hits.refined > 0
+        found = dr.zeros(mi.PreliminaryIntersection3f, w * h)
+        rt, direct, counts = trace(hits, chosen.traced, chosen.config, chosen.long, refined,
+                                   refined_lanes(scene, hits, chosen, data, static, found))
+        clock.mark("trace", rt, direct, counts.per_object)
+        # stage 2 once every pixel has its hit (the refined pixels' from what the launch found); what
+        # the stages after it read of the refined hits is evaluated with it, not resolved again
+        terms, _ = lit(resolved(hits, found, refined, data.tables), "object", "valid", "depth", "traced", "config")
     else:
-        hits = traced_hits(scene, ray, data.tables)
-    clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
-    # 2. deferred lighting: the raster layer (§3.1, Fig. 1g); 3. selection (§4)
-    terms, long = surface_terms(scene, hits, data, static, eye)
-    # (late, stage 4 writes the refined pixels' own terms into them: they must be evaluated first)
-    kept = (terms.targets, terms.depth) if late else [terms.targets[k] for k in static.aovs]
-    clock.mark("lighting", terms.raster, terms.shaded, terms.albedo, kept)
-    clock.mark("select", terms.traced, terms.config, long if static.long_first else None)
-    # 4. ray tracing (§3.2): one call for every selected object, each with its own ray kinds
-    refined = hits.refined > 0 if late else None  # traced in stage 4's launch, first
-    rt, direct, counts = trace_effects(scene, hits.ray, hits.si, terms.traced | refined if late else terms.traced,
-                                       static.effects, static.max_depth, static.rr_depth, static.hide_emitters,
-                                       seed=seed, obj=hits.object, n_objects=static.n_objects,
-                                       first_effects=static.configs, first_config=terms.config,
-                                       keep_direct=bool(static.modelled), paths=static.secondary_spp,
-                                       long=long if static.long_first else None,
-                                       primary=refined_lanes(scene, hits, terms, data, static, eye) if late else None,
-                                       primary_first=refined)
+        if static.primary == "raster":
+            hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables)
+        else:
+            hits = traced_hits(scene, ray, data.tables)
+        clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
+        terms, long = lit(hits)
+        clock.mark("select", terms.traced, terms.config, long if static.long_first else None)
+        rt, direct, counts = trace(hits, terms.traced, terms.config, long)
     # coverage (eq. 1), then the refined pixels: proxies, silhouettes and misses
     sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=2)
     n = max(static.n_objects, 1)
@@ -676,7 +717,7 @@ class HybridRenderer:
         film = sensor.film()
         glass = refracts(self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a)
         static = PassStatic(
-            width=camera.width, height=camera.height, primary=settings.primary, refine=settings.refine,
+            width=camera.width, height=camera.height, primary=settings.primary, refine=resolve_refine(settings.refine),
             effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),

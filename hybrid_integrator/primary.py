@@ -178,8 +178,14 @@ def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: i
 def retrace(scene: mi.Scene, hits: PrimaryHits, again: mi.Bool, tables: TriangleTables) -> PrimaryHits:
     """``hits`` with the lanes of ``again`` re-found by tracing their camera ray (Mitsuba's
     ``ray_intersect_preliminary``, on those lanes only): the refined pixels of :func:`raster_hits`."""
-    pi = scene.ray_intersect_preliminary(hits.ray, False, again)
-    valid = pi.is_valid()
+    return resolved(hits, scene.ray_intersect_preliminary(hits.ray, False, again), again, tables)
+
+
+def resolved(hits: PrimaryHits, pi: mi.PreliminaryIntersection3f, again: mi.Bool, tables: TriangleTables) -> PrimaryHits:
+    """``hits`` with the lanes of ``again`` taken from the preliminary intersections ``pi`` of
+    their camera rays (:func:`retrace`; or found earlier, in another kernel, and kept: a
+    preliminary intersection is 6 values per pixel, its surface interaction some 40)."""
+    valid = pi.is_valid() & again
     shape = shape_indices(tables.pointer_shape, pi.shape, valid)
     obj = object_indices(tables.object, tables.first_triangle, shape, pi.prim_index, valid)
     si = pi.compute_surface_interaction(hits.ray, mi.RayFlags.All, valid)

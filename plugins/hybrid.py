@@ -5,7 +5,7 @@
     <integrator type="hybrid">
         <string name="primary" value="raster"/>        <!-- or "raytrace": the pure RT baseline -->
         <string name="raster" value="auto"/>           <!-- or "draw", "compute" -->
-        <string name="refine" value="primary"/>        <!-- or "trace" -->
+        <string name="refine" value="auto"/>           <!-- or "primary", "trace" -->
         <string name="effects" value="shadow, reflection, refraction, indirect"/>
         <string name="candidates" value="mirror_sphere, glass_sphere"/>  <!-- default: all shapes -->
         <float name="blend" value="1"/>                <!-- composition weight of the RT layer -->
@@ -38,14 +38,15 @@ Properties
                  buffer up to ties on shared edges and coplanar faces.
 ``refine``       where the raster's *refined* pixels (silhouettes, analytic shapes' proxies, raster
                  misses: their camera ray is traced, ``hybrid_integrator/primary.py``) are traced:
-                 ``primary`` (the default), masked in the primary stage's kernel; or ``trace``,
-                 inside the trace stage's launch, launched first, with their lighting and
-                 selection: the primary stage then traces no ray. The images are the same. On the
-                 CPU ``trace`` is 1.6–3.1 % slower per frame (the primary stage 1.7–3.0 ms shorter,
-                 the trace stage 3.1–5.2 ms longer: ``docs/results/cpu/refine``); on an H200, a
-                 kernel that traces any ray was measured to cost 0.2–0.6 ms whatever its number of
-                 rays, which ``trace`` saves once per pass (not yet measured as a whole frame:
-                 ``scripts/refine_ab.py``).
+                 ``primary``, masked in the primary stage's kernel; or ``trace``, inside the trace
+                 stage's launch, launched first, with their selection (their lighting after it):
+                 the primary stage then traces no ray. The images are the same. ``auto`` (the
+                 default): ``trace`` on a CUDA variant, ``primary`` on the CPU. On an H200 a kernel
+                 that traces any ray costs 0.2–0.6 ms whatever its number of rays; ``trace``'s
+                 frames were 0.99–1.06× as fast as ``primary``'s on the four bench scenes (1.7 %
+                 faster on average) and 0.98× on ``scenes/many_objects.xml``
+                 (``docs/results/gpu/issue10/stop33``). On the CPU ``trace`` grows the trace
+                 kernel by about what it saves (``docs/results/cpu/refine``).
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect`` (default:
                  all four, with which the traced pixels are Mitsuba's ``path`` estimator and
                  converge to it; the paper's effects are the first three).

@@ -11,6 +11,7 @@ import pytest
 import hybrid_integrator as hi
 from hybrid_integrator.cli import main as cli
 from hybrid_integrator.io import read_exr
+from hybrid_integrator.pipeline import HybridSettings, resolve_refine
 from conftest import DEFAULT_SCENE, SHARED_SCENES, load
 
 SMALL = dict(resx=320, resy=180)
@@ -61,9 +62,10 @@ REFINE_CASES = {
 @pytest.mark.parametrize("case", list(REFINE_CASES))
 def test_refined_pixels_traced_in_the_trace_launch_give_the_same_frame(case):
     """``refine="trace"`` traces the raster's refined pixels (silhouettes, proxies, misses) inside
-    the trace stage's launch, with their lighting and selection, instead of in the primary stage's
-    kernel: the frames are the same (images, layers, AOVs, rays and counts), and the primary stage
-    then traces no ray (the LLVM backend marks a ray-tracing call in its kernel's IR)."""
+    the trace stage's launch, with their selection (their lighting after it, from what the launch
+    found), instead of in the primary stage's kernel: the frames are the same (images, layers,
+    AOVs, rays and counts), and the primary stage then traces no ray (the LLVM backend marks a
+    ray-tracing call in its kernel's IR)."""
     name, options = REFINE_CASES[case]
     path, params = PRIMARY_SCENES[name]
     scene = load(path, **params)
@@ -84,6 +86,17 @@ def test_refined_pixels_traced_in_the_trace_launch_give_the_same_frame(case):
     for layer in theirs.layers:
         assert np.allclose(ours.layers[layer], theirs.layers[layer], rtol=1e-5, atol=1e-6), layer
     assert "raster" in tracing["primary"] and "raster" not in tracing["trace"] and "trace" in tracing["trace"]
+
+
+def test_refine_auto_traces_the_refined_pixels_in_the_primary_stage_on_the_cpu():
+    """``refine="auto"``, the default, is resolved by backend (``pipeline.resolve_refine``): on the
+    LLVM backend the primary stage re-traces the refined pixels, as ``refine="primary"`` does."""
+    assert HybridSettings().refine == "auto"
+    assert resolve_refine("auto") == "primary" and resolve_refine("trace") == "trace"
+    scene = load(DEFAULT_SCENE, **SMALL)
+    hi.render(scene, spp=1, seed=1)
+    tracing = [stage for stage, entry in hi.api.renderer(scene).clock.last if "Ray trace" in _ir(entry)]
+    assert "raster" in tracing and "trace" in tracing
 
 
 def _ir(entry: dict) -> str:
