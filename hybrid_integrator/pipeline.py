@@ -69,18 +69,21 @@ SHADOW_ONLY = ("shadow",)  # the effect set of a shadow tier (heuristic.candidat
 HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
 
 
-def resolve_refine(refine: str) -> str:
-    """``refine`` (:data:`REFINE_STAGES`) with ``auto`` resolved for the current variant: on CUDA the
-    trace stage's launch (``trace``: on an H200 a kernel that traces any ray costs its traversal's
-    latency, which the primary stage's re-trace of a few pixels then saves: on an H200 the frames of
-    the four bench scenes were 0.99–1.06× as fast as ``primary``'s, 1.7 % faster on average, those
-    of the 226 objects 0.98×, ``docs/results/gpu/issue10/stop33``),
-    on the CPU the primary stage (``primary``: there the trace kernel grows by more than the primary
-    stage saves, ``docs/results/cpu/refine``)."""
+def resolve_refine(refine: str, traces: bool = True, variant: str | None = None) -> str:
+    """``refine`` (:data:`REFINE_STAGES`) with ``auto`` resolved for ``variant`` (default: the
+    current one) and the frame: the trace stage's launch (``trace``) on CUDA where the frame can
+    trace some object (``traces``), else the primary stage (``primary``). On an H200 a kernel that
+    traces any ray costs its traversal's latency, which the primary stage's re-trace of a few
+    pixels then saves: the frames of the four bench scenes were 0.99–1.06× as fast as
+    ``primary``'s, 1.7 % faster on average, those of the 226 objects 0.98×
+    (``docs/results/gpu/issue10/stop33``). A frame that traces no object would launch the trace for
+    the refined pixels alone, which costs more than their masked re-trace (DR frames of 1.7–2.6 ms
+    against 1.5–1.9 there); on the CPU the trace kernel grows by about what the primary stage
+    saves (``docs/results/cpu/refine``)."""
     if refine not in REFINE_STAGES:
         raise HybridError(f"refine='{refine}' is not one of {list(REFINE_STAGES)}")
     if refine == "auto":
-        return "trace" if (mi.variant() or "").startswith("cuda") else "primary"
+        return "trace" if traces and (variant or mi.variant() or "").startswith("cuda") else "primary"
     return refine
 
 
@@ -717,7 +720,7 @@ class HybridRenderer:
         film = sensor.film()
         glass = refracts(self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a)
         static = PassStatic(
-            width=camera.width, height=camera.height, primary=settings.primary, refine=resolve_refine(settings.refine),
+            width=camera.width, height=camera.height, primary=settings.primary, refine=resolve_refine(settings.refine, bool(configs)),
             effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),

@@ -89,10 +89,13 @@ def test_refined_pixels_traced_in_the_trace_launch_give_the_same_frame(case):
 
 
 def test_refine_auto_traces_the_refined_pixels_in_the_primary_stage_on_the_cpu():
-    """``refine="auto"``, the default, is resolved by backend (``pipeline.resolve_refine``): on the
-    LLVM backend the primary stage re-traces the refined pixels, as ``refine="primary"`` does."""
+    """``refine="auto"``, the default, is resolved by backend and frame (``pipeline.resolve_refine``):
+    on the LLVM backend, or where no object can be traced, the primary stage re-traces the refined
+    pixels, as ``refine="primary"`` does."""
     assert HybridSettings().refine == "auto"
     assert resolve_refine("auto") == "primary" and resolve_refine("trace") == "trace"
+    assert resolve_refine("auto", variant="cuda_ad_rgb") == "trace"
+    assert resolve_refine("auto", traces=False, variant="cuda_ad_rgb") == "primary"
     scene = load(DEFAULT_SCENE, **SMALL)
     hi.render(scene, spp=1, seed=1)
     tracing = [stage for stage, entry in hi.api.renderer(scene).clock.last if "Ray trace" in _ir(entry)]
