@@ -271,7 +271,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     return {
         "scene": spec, "name": name, "variant": mi.variant(), "device": _device(),
         "raster": resolve_method(properties.get("raster", "auto")),
-        "refine": resolve_refine(properties.get("refine", "auto")), "width": int(film[0]),
+        "refine": _refine(properties.get("refine", "auto")), "width": int(film[0]),
         "height": int(film[1]), "spp": spp, "frames": frames,
         "vertices": sum(int(m.vertex_count()) for m in meshes), "triangles": scene_triangles(scene),
         "shapes": len(scene.shapes()),
@@ -359,13 +359,20 @@ def run(specs: list[str], out_dir: Path, options: list[str], command: str, worke
     return reports
 
 
+def _refine(refine: str) -> str:
+    """The ``refine`` property as the report names it: ``auto`` with what it means on this variant."""
+    if refine == "auto" and resolve_refine(refine) == "trace":
+        return "auto: trace where a frame traces an object, else primary"
+    return resolve_refine(refine)
+
+
 def tables(reports: list[dict], commands: list[str]) -> str:
     """Table 3 and Table 4 layouts beside the paper's figures, then every method per scene."""
     first = reports[0]
     lines = [f"# Benchmarks: {first['variant']}, {first['width']}×{first['height']}, {first['spp']} spp per frame",
              "", *(f"Command: `{c}`  " for c in commands), f"Machine: {first['device']}  ",
-             f"Raster pass: {first.get('raster', 'draw')} (`raster/visibility.py`); refined pixels traced in "
-             f"the {first.get('refine', 'primary')} stage (`refine`)  ",
+             f"Raster pass: {first.get('raster', 'draw')} (`raster/visibility.py`); refined pixels: "
+             f"refine={first.get('refine', 'primary')} (`pipeline.resolve_refine`)  ",
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",

@@ -75,7 +75,7 @@ def resolve_refine(refine: str, traces: bool = True, variant: str | None = None)
     trace some object (``traces``), else the primary stage (``primary``). On an H200 a kernel that
     traces any ray costs its traversal's latency, which the primary stage's re-trace of a few
     pixels then saves: the frames of the four bench scenes were 0.99–1.06× as fast as
-    ``primary``'s, 1.7 % faster on average, those of the 226 objects 0.98×
+    ``primary``'s (about 2 % faster on average), those of the 226 objects 0.98×
     (``docs/results/gpu/issue10/stop33``). A frame that traces no object would launch the trace for
     the refined pixels alone, which costs more than their masked re-trace (DR frames of 1.7–2.6 ms
     against 1.5–1.9 there); on the CPU the trace kernel grows by about what the primary stage

@@ -41,12 +41,13 @@ Properties
                  ``primary``, masked in the primary stage's kernel; or ``trace``, inside the trace
                  stage's launch, launched first, with their selection (their lighting after it):
                  the primary stage then traces no ray. The images are the same. ``auto`` (the
-                 default): ``trace`` on a CUDA variant, ``primary`` on the CPU. On an H200 a kernel
-                 that traces any ray costs 0.2–0.6 ms whatever its number of rays; ``trace``'s
-                 frames were 0.99–1.06× as fast as ``primary``'s on the four bench scenes (1.7 %
-                 faster on average) and 0.98× on ``scenes/many_objects.xml``
-                 (``docs/results/gpu/issue10/stop33``). On the CPU ``trace`` grows the trace
-                 kernel by about what it saves (``docs/results/cpu/refine``).
+                 default): ``trace`` on a CUDA variant where the frame can trace an object, else
+                 ``primary``. On an H200 a kernel that traces any ray costs 0.2–0.6 ms whatever
+                 its number of rays; ``trace``'s frames were 0.99–1.06× as fast as ``primary``'s
+                 on the four bench scenes (about 2 % faster on average) and 0.98× on
+                 ``scenes/many_objects.xml`` (``docs/results/gpu/issue10/stop33``). On the CPU
+                 ``trace`` grows the trace kernel by about what it saves
+                 (``docs/results/cpu/refine``).
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect`` (default:
                  all four, with which the traced pixels are Mitsuba's ``path`` estimator and
                  converge to it; the paper's effects are the first three).

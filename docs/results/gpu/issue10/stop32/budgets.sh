@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Stop 32's owed GPU run, part 2 of 2, prepared and NOT yet run: item 4's budgets with the learnt
-# prior rays per pixel (heuristic.typical_rays) and the pixels' growth (heuristic.pixel_growth),
+# Stop 32's owed GPU run, part 2 of 2 (run in stop 33: outputs in out/, budget.* and bench_trace_1/):
+# item 4's budgets with the learnt prior rays per pixel (heuristic.typical_rays) and the pixels' growth (heuristic.pixel_growth),
 # with the rays against the plan that budget_benchmark.py now reports; then the timing bench with
 # refine="trace" (paired Gain, 50 % budget rows). Same machine and set-up as refine.sh. For an A/B
 # against 4ec6947 put its checkout first on PYTHONPATH (the editable install imports this one).
