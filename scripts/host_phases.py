@@ -5,7 +5,8 @@ process (no copy of their code) with ``time.perf_counter`` and renders the 226-o
 (``scenes/many_objects.xml`` and its ``_path.json``), or with ``--still`` a scene's own view,
 twice: with every candidate traced, and with a budget (``--budget 0``: once), with the raster's
 primary hits or (``--primary raytrace``) the RT baseline's camera rays. Prints per run the frame's median
-``FrameStats.host_ms`` by phase, then per wrapped function its median time per call and its mean
+``FrameStats.host_ms`` by phase and ``times_ms`` (device ms per stage, the host's issue time and the
+frame's total), then per wrapped function its median time per call and its mean
 time per frame: where the host's share of a frame goes, function by function.
 
     python3 scripts/host_phases.py --variant cuda_ad_rgb --resx 1280 --resy 720 --budget 2.47
@@ -91,6 +92,7 @@ def main() -> None:
         print(f"budget_ms={budget_ms}: frame {statistics.median(s.times_ms['total'] for s in stats):.3f} ms, "
               f"trace {statistics.median(s.times_ms['trace'] for s in stats):.3f} ms")
         print("  host_ms", {k: round(statistics.median(s.host_ms[k] for s in stats), 3) for k in stats[0].host_ms})
+        print("  times_ms", {k: round(statistics.median(s.times_ms[k] for s in stats), 3) for k in stats[0].times_ms})
         for name, values in times.items():
             print(f"  {name:32s} n={len(values):3d}  median {statistics.median(values):.3f} ms per call, "
                   f"{sum(values) / len(cameras):.3f} ms per frame")  # the wrapped calls of every frame
