@@ -1,16 +1,23 @@
 """Probe: where the raster's refined pixels are traced (``refine``: ``primary`` or ``trace``),
-against each other and the RT baseline, in one process: per scene, the three integrators render
-``--repeats`` frames in turn after three warm-up rounds (``bench.frames_in_turn``), and the
+against each other and the RT baseline: per scene, in a process of its own, the three integrators
+render ``--repeats`` frames in turn after three warm-up rounds (``bench.frames_in_turn``), and the
 medians of their frame times, of the paired ratios ``primary / trace`` and ``RT / hybrid``
-(Gain), and of the device time per stage are printed as a Markdown table.
+(Gain), and of the device time per stage are printed as a Markdown table. (Five scenes in one
+process made the later scenes' frames slower for all three integrators alike on the H200: the
+dining room's RT frame 20.2–20.6 ms after four other scenes, 16.7–17.5 in a process of its own,
+``docs/results/gpu/issue10/stop33``; the bench too runs each scene in its own process.)
 
     python3 scripts/refine_ab.py --variant cuda_ad_rgb --repeats 21 SCENE... -D resx=1280 -D resy=720
 """
 from __future__ import annotations
 
 import statistics
+import subprocess
+import sys
 
 from raster_cull_probe import arguments
+
+HEADER = 2  # the table's header lines, printed once
 
 SIDES = {"primary": dict(refine="primary"), "trace": dict(refine="trace"), "rt": dict(primary="raytrace")}
 STAGES = ("raster", "lighting", "trace")
@@ -21,6 +28,13 @@ def main() -> None:
     import numpy as np
 
     args = arguments(__doc__)
+    if len(args.scenes) > 1:  # one process per scene, this script's own command for each
+        options = ["--variant", args.variant, "--repeats", str(args.repeats)] + [f"-D{d}" for d in args.defines]
+        for k, spec in enumerate(args.scenes):
+            table = subprocess.run([sys.executable, __file__, spec, *options], check=True, stdout=subprocess.PIPE,
+                                   text=True).stdout.splitlines()
+            print("\n".join(table if k == 0 else table[HEADER:]), flush=True)
+        return
     mi.set_variant(args.variant)
     from hybrid_integrator.bench import frames_in_turn, load_bench_scene
 
