@@ -10,8 +10,10 @@ against the same camera ray is the *same* interaction Mitsuba's own ray tracer p
 frame, UVs, ``wi``), so the secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
 
 Some pixels are *refined*: their primary hit is re-found by tracing their camera ray
-(``ray_intersect_preliminary``, only on those lanes: :func:`retrace`; in a frame, inside the trace
-stage's launch, :func:`raster_hits`), and they are counted in the frame statistics:
+(``ray_intersect_preliminary``, only on those lanes: :func:`retrace`; or, with ``refine="trace"``,
+the default on CUDA, inside the trace stage's launch, which keeps what their rays found for
+:func:`resolved`: :func:`raster_hits` leaves them without a hit), and they are counted in the
+frame statistics:
 
 - pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
   be there;
