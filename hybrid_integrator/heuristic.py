@@ -412,11 +412,15 @@ def typical_rays(rays_table: np.ndarray, active: np.ndarray) -> np.ndarray:
 MAX_GROWTH = 2.0
 
 
-def pixel_growth(before: Coverage, last: Coverage) -> np.ndarray:
+def pixel_growth(before: Coverage | None, last: Coverage) -> np.ndarray | None:
     """Per object, the factor by which the next frame is expected to show more of it than ``last``:
     its pixels' growth from ``before`` to ``last`` (the camera moving on as it moved), at least 1
     (an object that shrank is planned at its last pixels: a plan errs on the side of the budget)
-    and at most :data:`MAX_GROWTH`; 1 for an object not seen in both."""
+    and at most :data:`MAX_GROWTH`; 1 for an object not seen in both. None where ``before`` is no
+    coverage of the same objects and film size (a sequence's first frame, a new film)."""
+    if not (isinstance(before, Coverage) and len(before.pixels) == len(last.pixels)
+            and (before.width, before.height) == (last.width, last.height)):
+        return None
     old, new = before.pixels.astype(np.float64), last.pixels.astype(np.float64)
     return np.clip(np.divide(new, old, out=np.ones_like(new), where=(old > 0) & (new > 0)), 1.0, MAX_GROWTH)
 

@@ -935,9 +935,7 @@ class HybridRenderer:
         stats.selected = tuple(self.objects.names[k] for k in ordered.tolist())
         stats.selection_changes = len(planned ^ state.selected)
         state.selected = set(planned)
-        last = state.coverage
-        state.growth = pixel_growth(last, cov) if isinstance(last, Coverage) and len(last.pixels) == len(cov.pixels) \
-            and (last.width, last.height) == (cov.width, cov.height) else None
+        state.growth = pixel_growth(state.coverage, cov)
         state.coverage = cov
         # the next frame's plan from what this one taught, while the GPU still denoises it (once the
         # cost model has passed its probe frames, whose sizes follow its observations one by one)
