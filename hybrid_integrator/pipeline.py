@@ -486,7 +486,9 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         chosen = pixel_selection(hits, data, static)
         clock.mark("select", chosen.traced, chosen.config, chosen.long if static.long_first else None)
         refined = hits.refined > 0
-        found = dr.zeros(mi.PreliminaryIntersection3f, w * h)
+        # written by every refined pixel's lane, read by those alone: not cleared (a clear is one
+        # operation per field in each replay of the frozen pass)
+        found = dr.empty(mi.PreliminaryIntersection3f, w * h)
         rt, direct, counts = trace(hits, chosen.traced, chosen.config, chosen.long, refined,
                                    refined_lanes(scene, hits, chosen, data, static, found))
         clock.mark("trace", rt, direct, counts.per_object)

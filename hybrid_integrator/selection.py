@@ -91,22 +91,36 @@ def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, 
     once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
     ``n`` back to the host to size its result. With ``first`` masks (None: left out), the set lanes
     of the first mask come first, then those of the second that are not in the first, ..., then
-    the rest, each part in order (a stable partition, one more prefix sum per mask). Returns
-    (index, lane active, slot of each set lane)."""
+    the rest, each part in order (a stable partition). The parts' counts share the bit fields of
+    one integer per lane (a field of ``bits`` holds any count up to the width), so that one prefix
+    sum numbers every part: each prefix sum is a kernel and a scan more in every replay of the
+    frozen pass, before its trace launches (three parts of a 1280×720 frame: one 64-bit sum).
+    Returns (index, lane active, slot of each set lane); the index of a lane past n is unspecified.
+    """
     parts, rest = [], mask
     for group in (g for g in first if g is not None):
         parts.append(rest & group)
         rest = rest & ~group
     parts.append(rest)
-    last = mi.UInt32(dr.width(mask) - 1)
+    width = dr.width(mask)
+    bits = max(width.bit_length(), 1)
+    per_word = 64 // bits
+    last = mi.UInt32(width - 1)
     slot, n = mi.UInt32(0), mi.UInt32(0)
-    for part in parts:
-        flags = mi.UInt32(part)
+    for start in range(0, len(parts), per_word):
+        word = parts[start:start + per_word]
+        dtype = mi.UInt64 if bits * len(word) > 32 else mi.UInt32
+        flags = dtype(0)
+        for k, part in enumerate(word):
+            flags |= dtype(part) << (bits * k)
         within = dr.prefix_sum(flags)
-        slot = dr.select(part, n + within, slot)
-        n = n + dr.gather(mi.UInt32, within, last) + dr.gather(mi.UInt32, flags, last)
-    lane = dr.arange(mi.UInt32, dr.width(mask))
-    index = dr.zeros(mi.UInt32, dr.width(mask))
+        total = dr.gather(dtype, within, last) + dr.gather(dtype, flags, last)
+        for k, part in enumerate(word):
+            shift, ones = bits * k, (1 << bits) - 1
+            slot = dr.select(part, n + mi.UInt32((within >> shift) & ones), slot)
+            n = n + mi.UInt32((total >> shift) & ones)
+    lane = dr.arange(mi.UInt32, width)
+    index = dr.empty(mi.UInt32, width)  # lanes past n: unspecified (read by none, not cleared)
     dr.scatter(index, lane, slot, mask)
     return index, lane < n, slot
 

@@ -137,12 +137,13 @@ def test_next_seeds_offsets_made_ahead_are_the_same_frame():
     assert np.abs(ahead - fresh).max() <= 1e-6 and ahead.mean() > 0
 
 
-@pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])
+@pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05), (2**22 + 3, 0.5)])
 @pytest.mark.parametrize("groups", [1, 2])
 def test_compaction_puts_the_first_lanes_first(n, density, groups):
     """With ``first`` masks, the set lanes of the first come first, then those of the second not
     in the first, then the rest, each part in pixel order (a stable partition: the trace launches
-    its re-traced primaries, then its long paths, first)."""
+    its re-traced primaries, then its long paths, first). 2²² + 3 lanes: the parts' counts need
+    23 bits each, two to a 64-bit prefix sum, so three parts take two."""
     rng = np.random.default_rng(n + 1)
     mask, first = rng.random(n) < density, [rng.random(n) < 0.4 for _ in range(groups)]
     index, active, slot = compact(mi.Bool(mask), *(mi.Bool(f) for f in first), None)
