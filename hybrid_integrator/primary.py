@@ -10,9 +10,9 @@ against the same camera ray is the *same* interaction Mitsuba's own ray tracer p
 frame, UVs, ``wi``), so the secondary rays and the BSDFs that follow are Mitsuba's, unchanged.
 
 Some pixels are *refined*: their primary hit is re-found by tracing their camera ray
-(``ray_intersect_preliminary``, only on those lanes: :func:`retrace`; or, with ``refine="trace"``,
-the default on CUDA, inside the trace stage's launch, which keeps what their rays found for
-:func:`resolved`: :func:`raster_hits` leaves them without a hit), and they are counted in the
+(``ray_intersect_preliminary``, only on those lanes: :func:`primary_hits`; or, with
+``refine="trace"``, the default on CUDA, inside the trace stage's launch, which keeps what their
+rays found for :func:`resolved`: :func:`raster_hits` leaves them without a hit), and they are counted in the
 frame statistics:
 
 - pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
@@ -149,15 +149,36 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
                         t=t, uv=uv, inside=inside, proxy=proxy)
 
 
-def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                tables: TriangleTables) -> PrimaryHits:
-    """The raster's hits as Mitsuba surface interactions for the camera rays ``ray`` of a ``width``
-    × ``height`` frame, with no ray traced: the pixels to refine (module docstring) are marked in
-    ``refined`` and left without a hit (``valid`` False) for :func:`retrace`. A kernel that traces
-    rays costs the GPU its traversal's latency however few rays it traces (an H200 without RT
-    cores: 0.21–0.60 ms for the 1–5 % refined pixels against 0.05–0.07 without them,
-    ``docs/results/gpu/issue10/stop31``), so the device pass re-traces them inside its trace
-    stage's launch, which traces anyway (``pipeline.device_pass``)."""
+@dataclass
+class Intersections:
+    """Per pixel, what a hit's surface interaction is made from (Mitsuba's preliminary
+    intersection, 6 values, against some 40 for the interaction) and what the hit is."""
+
+    pi: mi.PreliminaryIntersection3f
+    shape: mi.UInt32
+    object: mi.UInt32
+    valid: mi.Bool
+
+    @classmethod
+    def of(cls, pi: mi.PreliminaryIntersection3f, active: mi.Bool, tables: TriangleTables) -> "Intersections":
+        """The camera rays' preliminary intersections ``pi`` on the lanes of ``active``, Mitsuba's
+        shape pointers turned into the tables' shape and object."""
+        valid = pi.is_valid() & active
+        shape = shape_indices(tables.pointer_shape, pi.shape, valid)
+        return cls(pi=pi, shape=shape, object=object_indices(tables.object, tables.first_triangle, shape, pi.prim_index,
+                                                             valid), valid=valid)
+
+    def hits(self, ray: mi.Ray3f, refined: mi.UInt32) -> PrimaryHits:
+        """The surface interactions of ``ray`` (one ``compute_surface_interaction``)."""
+        si = self.pi.compute_surface_interaction(ray, mi.RayFlags.All, self.valid)
+        return PrimaryHits(ray=ray, si=si, shape=self.shape, object=self.object, valid=self.valid, refined=refined)
+
+
+def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
+                         tables: TriangleTables) -> tuple[Intersections, mi.UInt32]:
+    """The raster's intersections for the camera rays ``ray`` of a ``width`` × ``height`` frame,
+    with no ray traced, and per pixel why it is refined (``PrimaryHits.refined``): those pixels
+    are left without a hit (``valid`` False), to be found by their camera rays."""
     record = resolve(triangle_id, ray, tables)
     proxy = record.proxy
     edge = (silhouettes(dr.select(record.hit, record.object + 1, 0), width, height)
@@ -171,37 +192,39 @@ def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: i
     pi.shape_index = record.shape
     pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), record.shape, raster_hit)
     pi.valid = raster_hit
-    si = pi.compute_surface_interaction(ray, mi.RayFlags.All, raster_hit)
-    refined = dr.select(proxy, 1, dr.select(edge, 2, 0))
-    return PrimaryHits(ray=ray, si=si, shape=record.shape, object=record.object, valid=raster_hit,
-                       refined=mi.UInt32(refined))
+    refined = mi.UInt32(dr.select(proxy, 1, dr.select(edge, 2, 0)))
+    return Intersections(pi=pi, shape=record.shape, object=record.object, valid=raster_hit), refined
 
 
-def retrace(scene: mi.Scene, hits: PrimaryHits, again: mi.Bool, tables: TriangleTables) -> PrimaryHits:
-    """``hits`` with the lanes of ``again`` re-found by tracing their camera ray (Mitsuba's
-    ``ray_intersect_preliminary``, on those lanes only): the refined pixels of :func:`raster_hits`."""
-    return resolved(hits, scene.ray_intersect_preliminary(hits.ray, False, again), again, tables)
+def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
+                tables: TriangleTables) -> PrimaryHits:
+    """The raster's hits as Mitsuba surface interactions (:func:`raster_intersections`), the
+    refined pixels without a hit, for :func:`resolved`. A kernel that traces rays costs the GPU
+    its traversal's latency however few rays it traces (an H200 without RT cores: 0.21–0.60 ms
+    for the 1–5 % refined pixels against 0.05–0.07 without them,
+    ``docs/results/gpu/issue10/stop31``), so the device pass re-traces them inside its trace
+    stage's launch, which traces anyway (``pipeline.device_pass``)."""
+    found, refined = raster_intersections(scene, ray, triangle_id, width, height, tables)
+    return found.hits(ray, refined)
 
 
 def resolved(hits: PrimaryHits, pi: mi.PreliminaryIntersection3f, again: mi.Bool, tables: TriangleTables) -> PrimaryHits:
     """``hits`` with the lanes of ``again`` taken from the preliminary intersections ``pi`` of
-    their camera rays (:func:`retrace`; or found earlier, in another kernel, and kept: a
-    preliminary intersection is 6 values per pixel, its surface interaction some 40)."""
-    valid = pi.is_valid() & again
-    shape = shape_indices(tables.pointer_shape, pi.shape, valid)
-    obj = object_indices(tables.object, tables.first_triangle, shape, pi.prim_index, valid)
-    si = pi.compute_surface_interaction(hits.ray, mi.RayFlags.All, valid)
-    return PrimaryHits(ray=hits.ray, si=dr.select(again, si, hits.si), shape=dr.select(again, shape, hits.shape),
-                       object=dr.select(again, obj, hits.object), valid=dr.select(again, valid, hits.valid),
-                       refined=hits.refined)
+    their camera rays, found in another kernel and kept (``refine="trace"``)."""
+    return dr.select(again, Intersections.of(pi, again, tables).hits(hits.ray, hits.refined), hits)
 
 
 def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
                  tables: TriangleTables) -> PrimaryHits:
     """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
-    ``ray`` of a ``width`` × ``height`` frame, the refined pixels traced in the same kernel."""
-    hits = raster_hits(scene, ray, triangle_id, width, height, tables)
-    return retrace(scene, hits, hits.refined > 0, tables)
+    ``ray`` of a ``width`` × ``height`` frame, the refined pixels traced in the same kernel
+    (``ray_intersect_preliminary`` on their lanes alone), every pixel's interaction made from the
+    merged preliminary intersections: one ``compute_surface_interaction``, whose virtual call over
+    the shapes is the kernel's largest part."""
+    raster, refined = raster_intersections(scene, ray, triangle_id, width, height, tables)
+    again = refined > 0
+    traced = Intersections.of(scene.ray_intersect_preliminary(ray, False, again), again, tables)
+    return dr.select(again, traced, raster).hits(ray, refined)
 
 
 def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> PrimaryHits:
