@@ -95,14 +95,18 @@ def _shape_table(scene: mi.Scene) -> mi.UInt32:
     return mi.UInt32(table)
 
 
-def silhouettes(label: mi.UInt32, width: int, height: int) -> mi.Bool:
-    """Pixels with a 4-neighbour inside the image whose ``label`` (per pixel, row-major: an object
-    number, 0 for the background) differs."""
+def silhouettes(label_at, width: int, height: int) -> mi.Bool:
+    """Pixels with a 4-neighbour inside the image whose label differs; ``label_at(index, active)``
+    gives the label (an object number, 0 for the background) of the pixels ``index`` (row-major):
+    a function, not an array, so that the labels are read where they are needed, in the kernel
+    that tests them (a gather from an array computed in the same kernel would make it a kernel of
+    its own)."""
     i = dr.arange(mi.UInt32, width * height)
     x, y = i % width, i // width
+    label = label_at(i, mi.Bool(True))
     edge = mi.Bool(False)
     for inside, j in ((x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)):
-        edge |= inside & (dr.gather(mi.UInt32, label, j, inside) != label)
+        edge |= inside & (label_at(j, inside) != label)
     return edge
 
 
@@ -181,8 +185,15 @@ def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32,
     are left without a hit (``valid`` False), to be found by their camera rays."""
     record = resolve(triangle_id, ray, tables)
     proxy = record.proxy
-    edge = (silhouettes(dr.select(record.hit, record.object + 1, 0), width, height)
-            | (record.hit & ~record.inside)) & ~proxy
+
+    def label_at(index: mi.UInt32, active: mi.Bool) -> mi.UInt32:
+        """The object (+ 1, 0: none) of the triangle the raster drew at the pixels ``index``: read
+        from the visibility buffer itself, so silhouettes need no kernel before this one (a pixel
+        beyond the far clip keeps its triangle's object: its own ray decides it exactly)"""
+        drawn = dr.gather(mi.UInt32, triangle_id, index, active)
+        return dr.select(drawn > 0, dr.gather(mi.UInt32, tables.object, drawn - 1, active & (drawn > 0)) + 1, 0)
+
+    edge = (silhouettes(label_at, width, height) | (record.hit & ~record.inside)) & ~proxy
     raster_hit = record.hit & ~(proxy | edge)
 
     pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))

@@ -56,7 +56,8 @@ def test_aovs_match_mitsuba_materials():
     d = np.stack([np.array(ray.d[k]) for k in range(3)], -1).reshape(gb.position.shape)
     expected = camera.eye + d * gb.depth[..., None]
     h, w = gb.shape_index.shape
-    edge = np.array(silhouettes(mi.UInt32((gb.shape_index + 1).ravel().astype(np.uint32)), w, h)).reshape(h, w)
+    labels = mi.UInt32((gb.shape_index + 1).ravel().astype(np.uint32))
+    edge = np.array(silhouettes(lambda j, active: dr.gather(mi.UInt32, labels, j, active), w, h)).reshape(h, w)
     inner = hit & ~edge  # silhouette pixels are re-traced (primary.py)
     assert np.allclose(gb.position[inner], expected[inner], atol=1e-4)
     # normal: unit shading normals; the floor's points up, the red wall's points +x
