@@ -7,9 +7,10 @@ and reduction of the frozen replay, and after the frame ``StageClock.frame_times
 (``host_ms["timing"]``, left out of ``times_ms["total"]``). This probe renders the same frames
 with the history on and, by wrapping ``drjit.scoped_set_flag`` so that the renderer's request for
 it is ignored, off (the probe's one intervention; its frames then have no stage times), in turn,
-and prints per kind of frame the median wall time of a frame: ``render`` and one
-synchronisation, the history's read-back included where it is on. Frames without a budget only
-(a budget's cost model needs the history).
+and prints per kind of frame the median wall time of a frame (``render`` and one
+synchronisation, the history's read-back included where it is on) and, with the history on, the
+median ``times_ms["total"]`` (what the bench reports: the read-back left out). Frames without a
+budget only (a budget's cost model needs the history).
 
     python3 scripts/history_cost.py --variant cuda_ad_rgb scenes/armadillo_glass.xml -D resx=1280 -D resy=720 -D models_dir=…
 """
@@ -63,18 +64,21 @@ def main() -> None:
         renderer = scene_renderer(scene)
         for label, props in KINDS:
             settings = HybridSettings(**props, denoise=args.denoise)
-            wall = {True: [], False: []}
+            wall, total = {True: [], False: []}, []
             for frame in range(args.frames + 3):  # three warm-up frames of each (a recording each)
                 for on in (True, False):
                     history["on"] = on
                     dr.sync_thread()
                     start = time.perf_counter()
-                    renderer.render(settings, seed=frame, layers=False)
+                    result = renderer.render(settings, seed=frame, layers=False)
                     dr.sync_thread()
                     if frame >= 3:
                         wall[on].append((time.perf_counter() - start) * 1e3)
+                        if on:
+                            total.append(result.stats.times_ms["total"])
             on, off = (statistics.median(wall[k]) for k in (True, False))
-            print(f"{path.stem:16s} {label:20s} on {on:7.3f}  off {off:7.3f}  history costs {on - off:+.3f} ms")
+            print(f"{path.stem:16s} {label:20s} on {on:7.3f} (total {statistics.median(total):7.3f})  off {off:7.3f}  "
+                  f"history costs {on - off:+.3f} ms")
 
 
 if __name__ == "__main__":
