@@ -7,7 +7,7 @@ and reduction of the frozen replay, and after the frame ``StageClock.frame_times
 (``host_ms["timing"]``, left out of ``times_ms["total"]``). This probe renders the same frames
 with the history on and, by wrapping ``drjit.scoped_set_flag`` so that the renderer's request for
 it is ignored, off (the probe's one intervention; its frames then have no stage times), in turn,
-and prints per kind of frame the median wall time of a frame (``render`` and one
+and prints per kind of frame (1 spp) the median wall time of a frame (``render`` and one
 synchronisation, the history's read-back included where it is on) and, with the history on, the
 median ``times_ms["total"]`` (what the bench reports: the read-back left out). Frames without a
 budget only (a budget's cost model needs the history).
@@ -70,7 +70,7 @@ def main() -> None:
                     history["on"] = on
                     dr.sync_thread()
                     start = time.perf_counter()
-                    result = renderer.render(settings, seed=frame, layers=False)
+                    result = renderer.render(settings, spp=1, seed=frame, layers=False)
                     dr.sync_thread()
                     if frame >= 3:
                         wall[on].append((time.perf_counter() - start) * 1e3)
