@@ -12,8 +12,8 @@ frame, UVs, ``wi``), so the secondary rays and the BSDFs that follow are Mitsuba
 Some pixels are *refined*: their primary hit is re-found by tracing their camera ray
 (``ray_intersect_preliminary``, only on those lanes: :func:`primary_hits`; or, with
 ``refine="trace"``, the default on CUDA, inside the trace stage's launch, which keeps what their
-rays found for :func:`resolved`: :func:`raster_hits` leaves them without a hit), and they are counted in the
-frame statistics:
+rays found for :func:`resolved`: :func:`raster_hits` leaves them without a hit), and they are
+counted in the frame statistics:
 
 - pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
   be there;
@@ -29,6 +29,7 @@ named one, clamped into it, is the same point.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import drjit as dr
@@ -95,7 +96,7 @@ def _shape_table(scene: mi.Scene) -> mi.UInt32:
     return mi.UInt32(table)
 
 
-def silhouettes(label_at, width: int, height: int) -> mi.Bool:
+def silhouettes(label_at: Callable[[mi.UInt32, mi.Bool], mi.UInt32], width: int, height: int) -> mi.Bool:
     """Pixels with a 4-neighbour inside the image whose label differs; ``label_at(index, active)``
     gives the label (an object number, 0 for the background) of the pixels ``index`` (row-major):
     a function, not an array, so that the labels are read where they are needed, in the kernel
