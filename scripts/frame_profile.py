@@ -27,6 +27,8 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=50)
     parser.add_argument("--spp", type=int, default=1, help="samples (raster and device passes) per frame")
     parser.add_argument("--primary", default="raster", choices=("raster", "raytrace"))
+    parser.add_argument("--refine", default=None, choices=("auto", "primary", "trace"),
+                        help="where the raster's refined pixels are traced (default: the integrator's)")
     parser.add_argument("--candidates", default=None, help="the integrator's candidates ('' for the raster layer alone)")
     parser.add_argument("--rr-depth", type=int, default=None, help="the integrator's rr_depth (default: its own)")
     parser.add_argument("--top", type=int, default=25)
@@ -45,6 +47,7 @@ def main() -> None:
     scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))
     camera = sensor_to_world(scene.sensors()[0])
     props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {}),
+             **({"refine": args.refine} if args.refine is not None else {}),
              **({"rr_depth": args.rr_depth} if args.rr_depth is not None else {})}
     hi.render_sequence(scene, [camera] * 3, spp=args.spp, layers=False, **props)  # compiles and records
     profile = cProfile.Profile()
