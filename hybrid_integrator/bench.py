@@ -361,9 +361,9 @@ def run(specs: list[str], out_dir: Path, options: list[str], command: str, worke
 
 def _refine(refine: str) -> str:
     """The ``refine`` property as the report names it: ``auto`` with what it means on this variant."""
-    if refine == "auto" and resolve_refine(refine) == "trace":
-        return "auto: trace where a frame traces an object, else primary"
-    return resolve_refine(refine)
+    resolved = resolve_refine(refine)
+    return "auto: trace where a frame traces an object, else primary" if refine == "auto" and resolved == "trace" \
+        else resolved
 
 
 def tables(reports: list[dict], commands: list[str]) -> str:

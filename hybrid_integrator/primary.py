@@ -154,6 +154,13 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
                         t=t, uv=uv, inside=inside, proxy=proxy)
 
 
+def _indices(hit, valid: mi.Bool, tables: TriangleTables) -> tuple[mi.UInt32, mi.UInt32]:
+    """The tables' shape and object of Mitsuba's hits ``hit`` (a preliminary or a surface
+    interaction: its shape pointer and triangle) on the lanes of ``valid``."""
+    shape = shape_indices(tables.pointer_shape, hit.shape, valid)
+    return shape, object_indices(tables.object, tables.first_triangle, shape, hit.prim_index, valid)
+
+
 @dataclass
 class Intersections:
     """Per pixel, what a hit's surface interaction is made from (Mitsuba's preliminary
@@ -169,9 +176,7 @@ class Intersections:
         """The camera rays' preliminary intersections ``pi`` on the lanes of ``active``, Mitsuba's
         shape pointers turned into the tables' shape and object."""
         valid = pi.is_valid() & active
-        shape = shape_indices(tables.pointer_shape, pi.shape, valid)
-        return cls(pi=pi, shape=shape, object=object_indices(tables.object, tables.first_triangle, shape, pi.prim_index,
-                                                             valid), valid=valid)
+        return cls(pi, *_indices(pi, valid, tables), valid)
 
     def hits(self, ray: mi.Ray3f, refined: mi.UInt32) -> PrimaryHits:
         """The surface interactions of ``ray`` (one ``compute_surface_interaction``)."""
@@ -243,9 +248,8 @@ def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> Prima
     """The pure ray-tracing baseline's primary hits (paper §8): Mitsuba's camera rays traced."""
     si = scene.ray_intersect(ray)
     valid = si.is_valid()
-    shape = shape_indices(tables.pointer_shape, si.shape, valid)
-    return PrimaryHits(ray=ray, si=si, shape=shape, valid=valid, refined=mi.UInt32(0),
-                       object=object_indices(tables.object, tables.first_triangle, shape, si.prim_index, valid))
+    shape, obj = _indices(si, valid, tables)
+    return PrimaryHits(ray=ray, si=si, shape=shape, valid=valid, refined=mi.UInt32(0), object=obj)
 
 
 def visibility_buffer(ray: mi.Ray3f, triangle_id: mi.UInt32, tables: TriangleTables, eye, size: tuple[int, int],
