@@ -155,8 +155,14 @@ class FrozenScene:
         return FrozenFunction(self, fn)
 
     def snapshot(self) -> SceneVariables | None:
-        """The snapshot to pass, taken if there is none; ``None`` once it cannot serve."""
+        """The snapshot to pass, taken if there is none; ``None`` once it cannot serve. Garbage is
+        collected first: the snapshot walks every instance registered in a class, and an instance
+        of a scene that is garbage but not yet collected may hold variables already released by
+        the collector's clearing of its cycle; Dr.Jit aborts the process on such an index
+        ("jit_var(r967): unknown variable!", seen in the test suite: a case's scene walked the
+        previous case's emitter). One collection per snapshot, which a scene takes once."""
         if self.variables is None and not self.whole:
+            gc.collect()
             self.variables, self.taken = scene_variables(self.scene), self.taken + 1
             self.whole = self.variables is None
         return self.variables
