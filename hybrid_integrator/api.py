@@ -9,10 +9,10 @@ from .environment import require_jit_rgb_variant
 from .errors import HybridError
 from .objects import scene_objects
 from .pipeline import HybridSettings
-from .primary import camera_rays, primary_hits, visibility_buffer
+from .primary import camera_rays, primary_hits, resolve_outline, visibility_buffer
 from .raster.camera import RasterCamera, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
-from .raster.visibility import Rasterizer
+from .raster.visibility import Rasterizer, resolve_method
 
 def rasterizer(scene: mi.Scene) -> Rasterizer:
     """The :class:`Rasterizer` of ``scene``, made (and its geometry uploaded) on first use.
@@ -48,11 +48,12 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     camera = RasterCamera.from_sensor(sensor)
     raster = rasterizer(scene)
     ids = mi.UInt32(raster.read_ids(raster.render(camera, offset, method)))
-    ray = camera_rays(sensor, camera.width, camera.height, offset)
+    ray = camera_rays(sensor, camera.width, camera.height, offset, differentials=True)
     vis = visibility_buffer(ray, ids, raster.tables, camera.eye, (camera.width, camera.height), offset)
     targets = {}
     if aovs:
-        hits = primary_hits(scene, ray, ids, camera.width, camera.height, raster.tables)
+        hits = primary_hits(scene, ray, ids, camera.width, camera.height, raster.tables,
+                            resolve_outline("auto", resolve_method(method)))
         targets = compute_aovs(scene, hits, vis.depth.shape, aovs)
     return GBuffer(**vars(vis), **targets, shape_ids=scene_objects(scene).names)
 

@@ -57,6 +57,7 @@ from .compare import ground_truth, render_path, timed_path, timed_path_denoised
 from .errors import HybridError
 from .metrics import errors_in_parallel
 from .pipeline import resolve_refine
+from .primary import resolve_outline
 from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
 from .raster.camera import sensor_to_world
@@ -271,7 +272,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     return {
         "scene": spec, "name": name, "variant": mi.variant(), "device": _device(),
         "raster": resolve_method(properties.get("raster", "auto")),
-        "refine": _refine(properties.get("refine", "auto")), "width": int(film[0]),
+        "refine": _refine(properties.get("refine", "auto")), "outline": resolve_outline(properties.get("outline", "auto"), resolve_method(properties.get("raster", "auto"))),
+        "width": int(film[0]),
         "height": int(film[1]), "spp": spp, "frames": frames,
         "vertices": sum(int(m.vertex_count()) for m in meshes), "triangles": scene_triangles(scene),
         "shapes": len(scene.shapes()),
@@ -372,7 +374,8 @@ def tables(reports: list[dict], commands: list[str]) -> str:
     lines = [f"# Benchmarks: {first['variant']}, {first['width']}×{first['height']}, {first['spp']} spp per frame",
              "", *(f"Command: `{c}`  " for c in commands), f"Machine: {first['device']}  ",
              f"Raster pass: {first.get('raster', 'draw')} (`raster/visibility.py`); refined pixels: "
-             f"refine={first.get('refine', 'primary')} (`pipeline.resolve_refine`)  ",
+             f"refine={first.get('refine', 'primary')} (`pipeline.resolve_refine`), "
+             f"outline={first.get('outline', 'silhouettes')} (`primary.OUTLINES`)  ",
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",

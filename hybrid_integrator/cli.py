@@ -39,6 +39,10 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--refine", choices=("auto", "primary", "trace"),
                    help="where the raster's refined pixels (silhouettes, proxies, misses) are traced "
                         "(default: auto, the trace stage's launch on CUDA)")
+    g.add_argument("--outline", choices=("auto", "ties", "silhouettes"),
+                   help="which outline pixels of the raster are re-traced: where its answer may differ from the "
+                        "ray's (ties) or every pixel next to another object (silhouettes); default: auto, ties "
+                        "with the compute raster pass")
     g.add_argument("--effects", help="comma list of shadow, reflection, refraction, indirect")
     g.add_argument("--candidates", help="comma list of shape ids to ray trace ('' for none)")
     g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")
@@ -58,7 +62,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
 
 
 def _properties(args) -> dict:
-    names = ("primary", "raster", "refine", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
+    names = ("primary", "raster", "refine", "outline", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
              "denoise_quality", "learn_ambient", "shadow_tier")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 

@@ -52,7 +52,7 @@ from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, ca
                         coverage_sums, default_kinds, pixel_growth, visibility_terms)
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
-from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolved, traced_hits
+from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolve_outline, resolved, traced_hits
 from .raster.camera import RasterCamera, resolve_sensor
 from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
@@ -99,6 +99,7 @@ class HybridSettings:
     primary: str = "raster"
     raster: str = "auto"
     refine: str = "auto"
+    outline: str = "auto"
     effects: tuple[str, ...] = DEFAULT_EFFECTS
     candidates: object = None  # None: every object; "id[:kind|kind], ..." or {id: kinds} (heuristic.py)
     blend: float = 1.0
@@ -129,6 +130,7 @@ class HybridSettings:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
         resolve_method(self.raster)  # a clear error for an unknown method
         resolve_refine(self.refine)  # a clear error for an unknown stage
+        resolve_outline(self.outline, "compute")  # a clear error for an unknown test
         object.__setattr__(self, "effects", parse_effects(self.effects))
         if self.denoise_quality not in QUALITIES:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
@@ -290,6 +292,7 @@ class PassStatic:
     height: int
     primary: str
     refine: str  # where the raster's refined pixels are traced: primary or trace (resolve_refine)
+    outline: str  # which outline pixels are refined: ties or silhouettes (primary.resolve_outline)
     effects: tuple[str, ...]
     configs: tuple[tuple[str, ...], ...]  # the effect sets the candidates deserve
     max_depth: int
@@ -457,7 +460,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     offset = mi.Point2f(*(dr.gather(mi.Float, data.camera, k) for k in range(2)))
     eye = mi.Point3f(*(dr.gather(mi.Float, data.camera, k) for k in range(2, 5)))
     seed = mi.UInt64(dr.gather(mi.UInt32, data.seed, 0)) | (mi.UInt64(dr.gather(mi.UInt32, data.seed, 1)) << 32)
-    ray = camera_rays(sensor, w, h, offset)
+    # the raster's outline test measures pixels with the rays' differentials (primary.outline_ties)
+    ray = camera_rays(sensor, w, h, offset, differentials=static.primary == "raster" and static.outline == "ties")
 
     def trace(hits: PrimaryHits, traced: mi.Bool, config: mi.UInt32, long: mi.Bool, refined: mi.Bool | None = None,
               primary: LanePrimary | None = None):
@@ -483,7 +487,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8);
     # the raster's refined pixels traced here, or in stage 4's launch (``refine="trace"``)
     if static.primary == "raster" and static.refine == "trace":
-        hits = raster_hits(scene, ray, data.triangle_id, w, h, data.tables)
+        hits = raster_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline)
         clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
         # stages 3, 4, then 2: the refined pixels' hits are found in stage 4's launch, first
         chosen = pixel_selection(hits, data, static)
@@ -500,7 +504,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         terms, _ = lit(resolved(hits, found, refined, data.tables), "object", "valid", "depth", "traced", "config")
     else:
         if static.primary == "raster":
-            hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables)
+            hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline)
         else:
             hits = traced_hits(scene, ray, data.tables)
         clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
@@ -729,6 +733,7 @@ class HybridRenderer:
         glass = refracts(self.objects.bsdf(k, self.scene) for k, a in enumerate(active) if a)
         static = PassStatic(
             width=camera.width, height=camera.height, primary=settings.primary, refine=resolve_refine(settings.refine, bool(configs)),
+            outline=resolve_outline(settings.outline, resolve_method(settings.raster)),
             effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),

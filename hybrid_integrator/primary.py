@@ -17,10 +17,16 @@ counted in the frame statistics:
 
 - pixels of tessellated analytic shapes (``proxy``): the proxy only says that the exact shape may
   be there;
-- *silhouette* pixels, whose 4-neighbourhood shows another object or the background. The
-  rasterizer snaps vertices to a fixed-point sub-pixel grid (1/256 pixel), so a sample lying that
-  close to an object's outline can land on the wrong side of it; on a straight outline aligned
-  with the pixel grid this flips a whole column at once;
+- *outline* pixels, whose 4-neighbourhood shows another object or the background, where the
+  raster's answer may differ from the ray's (:data:`OUTLINES`). The draw snaps vertices to a
+  fixed-point sub-pixel grid (1/256 pixel), so a sample lying that close to an object's outline
+  can land on the wrong side of it (on a straight outline aligned with the pixel grid this flips
+  a whole column at once), and both rasterizers resolve depth in floats, so where two objects
+  meet or overlap at the same depth either may win. By default (``ties``) only those pixels are
+  re-traced: the sample lies within :data:`EDGE_TOLERANCE` pixels of its own triangle's edge, or
+  a neighbour's triangle covers it that closely and lies in front of the raster's hit or within
+  :data:`DEPTH_TIE` of its depth (:func:`outline_ties`). ``silhouettes`` re-traces every outline
+  pixel (:func:`silhouettes`): 3–17 % of a frame's pixels, against ~0.1–1 %;
 - pixels whose camera ray misses the raster's triangle by more than the snapping can explain
   (``MISS_TOLERANCE`` in barycentric units).
 
@@ -37,12 +43,24 @@ import mitsuba as mi
 import numpy as np
 
 from .cache import scene_state
+from .errors import HybridError
 from .objects import object_indices
 from .raster.visibility import TriangleTables
 
 #: how far outside its raster triangle (in barycentric units) a camera ray may pass before the
 #: pixel is re-traced
 MISS_TOLERANCE = 1e-3
+#: which outline pixels are re-traced (module docstring): ``ties`` (:func:`outline_ties`);
+#: ``silhouettes``, every pixel whose 4-neighbourhood shows another object (:func:`silhouettes`);
+#: ``auto``, the one the raster pass needs (:func:`resolve_outline`)
+OUTLINES = ("auto", "ties", "silhouettes")
+#: how close (in pixels) to a triangle's edge a sample must lie for the raster's coverage of it to
+#: be doubted: four times the draw's vertex snapping (1/256 pixel), far above the compute pass's
+#: float rounding
+EDGE_TOLERANCE = 1.0 / 64.0
+#: relative difference of two surfaces' distances along a camera ray below which the raster's depth
+#: test may pick either of them (both rasterizers resolve depth in 32-bit floats)
+DEPTH_TIE = 1e-4
 
 
 @dataclass
@@ -62,16 +80,35 @@ class PrimaryHits:
     refined: mi.UInt32
 
 
-def camera_rays(sensor: mi.Sensor, width: int, height: int, offset) -> mi.Ray3f:
+def resolve_outline(outline: str, method: str) -> str:
+    """``outline`` (:data:`OUTLINES`) with ``auto`` resolved for the raster pass's ``method``
+    (``draw`` or ``compute``, ``raster.visibility.resolve_method``); another value is a
+    :class:`HybridError` naming it. The compute pass decides coverage with float edge functions at
+    the sample itself, so its answer can differ from the ray's only where :func:`outline_ties`
+    looks: ``ties``. The draw snaps vertices to 1/256 pixel, which can move the outline of a dense
+    mesh across a sample next to it by a triangle that no sample shows and ``ties`` cannot test
+    (the showcase's bunny at 320×180, one pixel; ``scripts/refine_need.py``): ``silhouettes``."""
+    if outline not in OUTLINES:
+        raise HybridError(f"outline='{outline}' is not one of {list(OUTLINES)}")
+    if outline == "auto":
+        return "ties" if method == "compute" else "silhouettes"
+    return outline
+
+
+def camera_rays(sensor: mi.Sensor, width: int, height: int, offset, differentials: bool = False) -> mi.Ray3f:
     """Mitsuba's camera rays through every pixel of a ``width`` × ``height`` film at sub-pixel
     ``offset`` (the rays the raster stands in for, and the primary rays of the pure ray-tracing
-    baseline). ``offset`` is a pair of floats or a ``mi.Point2f`` (as the device pass passes it)."""
+    baseline). ``offset`` is a pair of floats or a ``mi.Point2f`` (as the device pass passes it).
+    ``differentials``: ``mi.RayDifferential3f``, with the rays one pixel to the right and one
+    below (the same main rays: Mitsuba's ``sample_ray_differential``), which the ``ties`` outline
+    test measures pixels with."""
     index = dr.arange(mi.UInt32, width * height)
     if not isinstance(offset, mi.Point2f):
         # opaque: the offset changes every pass, and a literal would recompile the kernel each time
         offset = mi.Point2f(*(dr.opaque(mi.Float, float(o)) for o in offset))
     position = mi.Point2f((mi.Float(index % width) + offset.x) / width, (mi.Float(index // width) + offset.y) / height)
-    ray, _ = sensor.sample_ray(0.0, 0.5, position, mi.Point2f(0.5, 0.5))
+    sample = sensor.sample_ray_differential if differentials else sensor.sample_ray
+    ray, _ = sample(0.0, 0.5, position, mi.Point2f(0.5, 0.5))
     return ray
 
 
@@ -122,6 +159,34 @@ def ray_triangle(ray: mi.Ray3f, p0: mi.Point3f, p1: mi.Point3f, p2: mi.Point3f) 
     return dr.dot(e2, qvec) * inv_det, mi.Point2f(dr.dot(tvec, pvec) * inv_det, dr.dot(ray.d, qvec) * inv_det)
 
 
+def edge_margin(ray: mi.RayDifferential3f, p0: mi.Point3f, p1: mi.Point3f,
+                p2: mi.Point3f) -> tuple[mi.Float, mi.Point2f, mi.Float]:
+    """:func:`ray_triangle`'s distance and barycentrics, and the *margin*: the signed distance in
+    pixels from the ray's sample to the triangle's nearest edge, negative outside it (NaN where the
+    ray runs in the triangle's plane). A barycentric coordinate is, to first order, affine on the
+    film, so its change to the rays one pixel across and one down (the ray's differentials) is its
+    gradient in pixels, and the coordinate over that gradient's length is the distance to the edge
+    where it is 0. The gradient includes the surface's foreshortening: the margin is measured on
+    the film, where the rasterizer decides coverage (to a few per cent: a difference over one
+    pixel, where perspective bends the coordinate; far finer than :data:`EDGE_TOLERANCE` needs)."""
+    t, uv = ray_triangle(ray, p0, p1, p2)
+    _, uv_x = ray_triangle(mi.Ray3f(ray.o_x, ray.d_x), p0, p1, p2)
+    _, uv_y = ray_triangle(mi.Ray3f(ray.o_y, ray.d_y), p0, p1, p2)
+    margin, unknown = mi.Float(dr.inf), mi.Bool(False)
+    for b, b_x, b_y in ((uv.x, uv_x.x, uv_y.x), (uv.y, uv_x.y, uv_y.y),
+                        (1.0 - uv.x - uv.y, 1.0 - uv_x.x - uv_x.y, 1.0 - uv_y.x - uv_y.y)):
+        distance = b * dr.rsqrt(dr.maximum(dr.square(b_x - b) + dr.square(b_y - b), 1e-30))
+        unknown |= dr.isnan(distance)
+        margin = dr.minimum(margin, distance)
+    return t, uv, dr.select(unknown, dr.nan, margin)
+
+
+def _corners(tables: TriangleTables, triangle: mi.UInt32, active: mi.Bool) -> tuple[mi.Point3f, mi.Point3f, mi.Point3f]:
+    """The vertices of the tables' triangles ``triangle`` (global numbers) on the lanes of ``active``."""
+    corners = dr.gather(mi.Vector3u, tables.faces, triangle, active)
+    return tuple(dr.gather(mi.Point3f, tables.vertices, corners[k], active) for k in range(3))
+
+
 @dataclass
 class RasterRecord:
     """A visibility buffer resolved on the device, before any refinement: the raster's own answer."""
@@ -141,9 +206,7 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
     hit = triangle_id > 0
     triangle = dr.select(hit, triangle_id - 1, 0)
     shape = dr.gather(mi.UInt32, tables.shape, triangle, hit)
-    corners = dr.gather(mi.Vector3u, tables.faces, triangle, hit)
-    p0, p1, p2 = (dr.gather(mi.Point3f, tables.vertices, corners[k], hit) for k in range(3))
-    t, uv = ray_triangle(ray, p0, p1, p2)
+    t, uv = ray_triangle(ray, *_corners(tables, triangle, hit))
     inside = (uv.x >= -MISS_TOLERANCE) & (uv.y >= -MISS_TOLERANCE) & (uv.x + uv.y <= 1.0 + MISS_TOLERANCE) & (t > 0)
     hit &= ~(inside & (t > ray.maxt))  # beyond the far clip: background, as for the camera ray
     uv = dr.maximum(uv, 0.0)
@@ -152,6 +215,58 @@ def resolve(triangle_id: mi.UInt32, ray: mi.Ray3f, tables: TriangleTables) -> Ra
     return RasterRecord(hit=hit, shape=shape, object=dr.gather(mi.UInt32, tables.object, triangle, hit),
                         prim=dr.select(proxy, 0, triangle - dr.gather(mi.UInt32, tables.first_triangle, shape, hit)),
                         t=t, uv=uv, inside=inside, proxy=proxy)
+
+
+def _label(drawn: mi.UInt32, active: mi.Bool, tables: TriangleTables) -> mi.UInt32:
+    """The object (+ 1, 0: none) of the visibility buffer's triangle numbers (+ 1) ``drawn``. A
+    pixel beyond the far clip keeps its triangle's object: its own ray decides it exactly."""
+    return dr.select(drawn > 0, dr.gather(mi.UInt32, tables.object, drawn - 1, active & (drawn > 0)) + 1, 0)
+
+
+def outline_ties(ray: mi.RayDifferential3f, record: RasterRecord, triangle_id: mi.UInt32, tables: TriangleTables,
+                 width: int, height: int) -> mi.Bool:
+    """The outline pixels whose raster hit may not be their camera ray's (``outline="ties"``,
+    module docstring). A pixel one of whose 4-neighbours shows another object or the background
+    (the neighbour's triangle from the visibility buffer ``triangle_id``, read in this kernel) is
+    doubted where
+
+    - its sample lies within :data:`EDGE_TOLERANCE` pixels of its own triangle's edges, or outside
+      them (:func:`edge_margin`): the object beyond that edge may be the ray's;
+    - a neighbour's triangle covers the sample to within :data:`EDGE_TOLERANCE` pixels and its
+      plane lies in front of the raster's hit (or the pixel shows the background): the
+      rasterizer's coverage may have left it out;
+    - the plane of a neighbour's triangle lies within :data:`DEPTH_TIE` of the hit's distance along
+      the ray: where two objects meet, or overlap at one depth, the depth test may pick either.
+
+    Anywhere else the rasterizer's coverage and depth test decide exactly as the ray does. Only the
+    triangles seen at the pixel and its neighbours are tested: one that no sample shows (smaller
+    than a pixel, between the samples) goes untested, as it does for :func:`silhouettes`. Unknown
+    margins (NaN) count as doubted."""
+    i = dr.arange(mi.UInt32, width * height)
+    x, y = i % width, i // width
+    own = _label(triangle_id, mi.Bool(True), tables)
+    outline, drawn, other = mi.Bool(False), [], []
+    for inside, j in ((x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)):
+        drawn.append(dr.gather(mi.UInt32, triangle_id, j, inside))
+        other.append(inside & (_label(drawn[-1], inside, tables) != own))
+        outline |= other[-1]
+
+    def doubt(drawn, other) -> mi.Bool:
+        """the tests, on the outline pixels' lanes alone (a branch: the GPU's warps and the CPU's
+        packets without an outline pixel skip them)"""
+        hit, t = record.hit, dr.select(record.hit, record.t, dr.inf)
+        _, _, margin = edge_margin(ray, *_corners(tables, triangle_id - 1, hit))
+        doubted = hit & ~(margin >= EDGE_TOLERANCE)
+        for number, differs in zip(drawn, other):
+            tested = differs & (number > 0)
+            t_other, _, margin = edge_margin(ray, *_corners(tables, number - 1, tested))
+            covers = ~(margin < -EDGE_TOLERANCE) & ~(t_other <= 0.0) & ~(t_other >= t * (1.0 + DEPTH_TIE))
+            tie = hit & ~(dr.abs(t_other - t) > DEPTH_TIE * t)
+            doubted |= tested & (covers | tie)
+        return doubted
+
+    return dr.if_stmt((tuple(drawn), tuple(other)), outline, doubt, lambda drawn, other: mi.Bool(False),
+                      label="outline ties")
 
 
 def _indices(hit, valid: mi.Bool, tables: TriangleTables) -> tuple[mi.UInt32, mi.UInt32]:
@@ -179,27 +294,33 @@ class Intersections:
         return cls(pi, *_indices(pi, valid, tables), valid)
 
     def hits(self, ray: mi.Ray3f, refined: mi.UInt32) -> PrimaryHits:
-        """The surface interactions of ``ray`` (one ``compute_surface_interaction``)."""
+        """The surface interactions of ``ray`` (one ``compute_surface_interaction``), kept with
+        the ray, without its differentials (which the stages after this one do not read)."""
+        ray = mi.Ray3f(ray)
         si = self.pi.compute_surface_interaction(ray, mi.RayFlags.All, self.valid)
         return PrimaryHits(ray=ray, si=si, shape=self.shape, object=self.object, valid=self.valid, refined=refined)
 
 
 def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                         tables: TriangleTables) -> tuple[Intersections, mi.UInt32]:
+                         tables: TriangleTables, outline: str = "silhouettes") -> tuple[Intersections, mi.UInt32]:
     """The raster's intersections for the camera rays ``ray`` of a ``width`` × ``height`` frame,
     with no ray traced, and per pixel why it is refined (``PrimaryHits.refined``): those pixels
-    are left without a hit (``valid`` False), to be found by their camera rays."""
+    are left without a hit (``valid`` False), to be found by their camera rays. ``outline``
+    (``ties`` or ``silhouettes``, :func:`resolve_outline`): which outline pixels are refined;
+    ``ties`` needs ``ray`` with its differentials (``camera_rays(..., differentials=True)``)."""
+    if outline not in OUTLINES[1:]:
+        raise ValueError(f"outline='{outline}' is not one of {list(OUTLINES[1:])}: resolve 'auto' first")
+    if outline == "ties" and not isinstance(ray, mi.RayDifferential3f):
+        raise ValueError("outline='ties' measures pixels with the rays' differentials: "
+                         "pass camera_rays(..., differentials=True)")
     record = resolve(triangle_id, ray, tables)
     proxy = record.proxy
-
-    def label_at(index: mi.UInt32, active: mi.Bool) -> mi.UInt32:
-        """The object (+ 1, 0: none) of the triangle the raster drew at the pixels ``index``: read
-        from the visibility buffer itself, so silhouettes need no kernel before this one (a pixel
-        beyond the far clip keeps its triangle's object: its own ray decides it exactly)"""
-        drawn = dr.gather(mi.UInt32, triangle_id, index, active)
-        return dr.select(drawn > 0, dr.gather(mi.UInt32, tables.object, drawn - 1, active & (drawn > 0)) + 1, 0)
-
-    edge = (silhouettes(label_at, width, height) | (record.hit & ~record.inside)) & ~proxy
+    if outline == "ties":
+        doubted = outline_ties(ray, record, triangle_id, tables, width, height)
+    else:  # the labels read from the visibility buffer itself: silhouettes need no kernel before this one
+        doubted = silhouettes(lambda index, active: _label(dr.gather(mi.UInt32, triangle_id, index, active), active, tables),
+                              width, height)
+    edge = (doubted | (record.hit & ~record.inside)) & ~proxy
     raster_hit = record.hit & ~(proxy | edge)
 
     pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))
@@ -214,14 +335,14 @@ def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32,
 
 
 def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                tables: TriangleTables) -> PrimaryHits:
+                tables: TriangleTables, outline: str = "silhouettes") -> PrimaryHits:
     """The raster's hits as Mitsuba surface interactions (:func:`raster_intersections`), the
     refined pixels without a hit, for :func:`resolved`. A kernel that traces rays costs the GPU
     its traversal's latency however few rays it traces (an H200 without RT cores: 0.21–0.60 ms
     for the 1–5 % refined pixels against 0.05–0.07 without them,
     ``docs/results/gpu/issue10/stop31``), so the device pass re-traces them inside its trace
     stage's launch, which traces anyway (``pipeline.device_pass``)."""
-    found, refined = raster_intersections(scene, ray, triangle_id, width, height, tables)
+    found, refined = raster_intersections(scene, ray, triangle_id, width, height, tables, outline)
     return found.hits(ray, refined)
 
 
@@ -232,13 +353,13 @@ def resolved(hits: PrimaryHits, pi: mi.PreliminaryIntersection3f, again: mi.Bool
 
 
 def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                 tables: TriangleTables) -> PrimaryHits:
+                 tables: TriangleTables, outline: str = "silhouettes") -> PrimaryHits:
     """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
     ``ray`` of a ``width`` × ``height`` frame, the refined pixels traced in the same kernel
     (``ray_intersect_preliminary`` on their lanes alone), every pixel's interaction made from the
     merged preliminary intersections: one ``compute_surface_interaction``, whose virtual call over
     the shapes is the kernel's largest part."""
-    raster, refined = raster_intersections(scene, ray, triangle_id, width, height, tables)
+    raster, refined = raster_intersections(scene, ray, triangle_id, width, height, tables, outline)
     again = refined > 0
     traced = Intersections.of(scene.ray_intersect_preliminary(ray, False, again), again, tables)
     return dr.select(again, traced, raster).hits(ray, refined)

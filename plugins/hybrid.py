@@ -6,6 +6,7 @@
         <string name="primary" value="raster"/>        <!-- or "raytrace": the pure RT baseline -->
         <string name="raster" value="auto"/>           <!-- or "draw", "compute" -->
         <string name="refine" value="auto"/>           <!-- or "primary", "trace" -->
+        <string name="outline" value="auto"/>          <!-- or "ties", "silhouettes" -->
         <string name="effects" value="shadow, reflection, refraction, indirect"/>
         <string name="candidates" value="mirror_sphere, glass_sphere"/>  <!-- default: all shapes -->
         <float name="blend" value="1"/>                <!-- composition weight of the RT layer -->
@@ -48,6 +49,16 @@ Properties
                  ``scenes/many_objects.xml`` (``docs/results/gpu/issue10/stop33``). On the CPU
                  ``trace`` grows the trace kernel by about what it saves
                  (``docs/results/cpu/refine``).
+``outline``      which pixels of an object's outline are refined: ``ties``, those where the
+                 raster's answer may differ from the camera ray's: the sample lies within 1/64
+                 pixel of its triangle's edge, or of a neighbour's triangle in front of it, or a
+                 neighbour's surface lies at the same depth (``primary.outline_ties``; 0.2–1.3 %
+                 of the bench scenes' pixels at 320×180); ``silhouettes``: every pixel whose
+                 4-neighbourhood shows another object (3–17 %); ``auto`` (the default): ``ties``
+                 with the ``compute`` raster pass, ``silhouettes`` with the ``draw``, whose vertex
+                 snapping ``ties`` cannot follow on dense meshes (``primary.resolve_outline``).
+                 Either way the primary hits are the camera rays' (``tests/test_integrator.py``,
+                 ``docs/results/cpu/refine_need.md``), up to coplanar faces' z-fighting.
 ``effects``      comma list of ``shadow``, ``reflection``, ``refraction``, ``indirect`` (default:
                  all four, with which the traced pixels are Mitsuba's ``path`` estimator and
                  converge to it; the paper's effects are the first three).

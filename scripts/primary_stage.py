@@ -1,11 +1,12 @@
 """What the primary stage's Dr.Jit kernels cost: the raster's hits against camera rays (issue 10).
 
-For each scene, one visibility buffer is drawn once; then two frozen functions of the scene and
+For each scene, one visibility buffer is drawn once; then three frozen functions of the scene and
 that buffer are timed, each a hit per pixel with its surface interaction (what stage 1 hands to
 the lighting):
 
-- ``raster``: ``primary.primary_hits``, the raster's triangles intersected with the pixels' camera
-  rays, the refined pixels' rays (silhouettes, proxies) traced in the same kernel, masked;
+- ``ties`` and ``silhouettes``: ``primary.primary_hits``, the raster's triangles intersected with
+  the pixels' camera rays, the refined pixels' rays (proxies, and the outline pixels of that
+  ``outline`` test, ``primary.OUTLINES``) traced in the same kernel, masked;
 - ``camera rays``: ``primary.traced_hits``, every pixel's camera ray traced (the RT baseline).
 
 Per function: the median device time of its kernels (Dr.Jit's kernel history, CUDA events on the
@@ -19,6 +20,7 @@ slower on four of five scenes, docs/results/gpu/issue10/stop28/primary_stage_com
 from __future__ import annotations
 
 import argparse
+import functools
 from pathlib import Path
 
 from trace_overhead import timed_in_turn  # scripts/ is on sys.path when a script runs
@@ -56,8 +58,9 @@ def main() -> None:
         ids = raster.device_ids(raster.render(camera, (0.5, 0.5), "auto"))
         tables = raster.tables
 
-        def hits_of(scene, sensor, ids, tables):
-            hits = primary_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), ids, w, h, tables)
+        def hits_of(scene, sensor, ids, tables, outline):
+            hits = primary_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5), differentials=True), ids, w, h, tables,
+                                outline)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid, hits.refined
 
         def rays_of(scene, sensor, tables):
@@ -65,11 +68,13 @@ def main() -> None:
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid
 
         frozen = FrozenScene(scene)  # as the device pass is frozen: the scene's variables in its place
-        runs = {"raster": (frozen.freeze(hits_of), (sensor, ids, tables)),
-                "camera rays": (frozen.freeze(rays_of), (sensor, tables))}
+        runs = {outline: (frozen.freeze(functools.partial(hits_of, outline=outline)), (sensor, ids, tables))
+                for outline in ("ties", "silhouettes")}
+        runs["camera rays"] = (frozen.freeze(rays_of), (sensor, tables))
         times = timed_in_turn([lambda fn=fn, inputs=inputs: fn(*inputs) for fn, inputs in runs.values()], args.repeats)
-        refined = int(np.count_nonzero(np.array(runs["raster"][0](*runs["raster"][1])[-1])))
-        lines.append(f"{name} ({w}×{h}, {refined} refined pixels, {refined / (w * h):.1%})")
+        refined = {k: int(np.count_nonzero(np.array(runs[k][0](*runs[k][1])[-1]))) for k in ("ties", "silhouettes")}
+        lines.append(f"{name} ({w}×{h}, refined pixels: "
+                     + ", ".join(f"{k} {n} ({n / (w * h):.2%})" for k, n in refined.items()) + ")")
         for k, (wall, device) in zip(runs, times):
             lines.append(f"  {k:12s} device {device:.3f} ms, wall {wall:.3f} ms")
     text = "\n".join(lines)

@@ -10,14 +10,19 @@ import argparse
 import statistics
 
 
-def arguments(doc: str) -> argparse.Namespace:
-    """The probes' command line (this one's and ``raster_order_probe.py``'s)."""
+def parser(doc: str) -> argparse.ArgumentParser:
+    """The probes' command line (this one's, ``raster_order_probe.py``'s, ``refine_ab.py``'s)."""
     parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument("scenes", nargs="+")
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--repeats", type=int, default=30)
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
-    return parser.parse_args()
+    return parser
+
+
+def arguments(doc: str) -> argparse.Namespace:
+    """The probes' parsed command line (:func:`parser`)."""
+    return parser(doc).parse_args()
 
 
 def rasterizers(args: argparse.Namespace):

@@ -1,14 +1,15 @@
-"""How many primary hits the silhouette refinement corrects, per rasterizer (issue 10).
+"""How many primary hits each outline test leaves wrong, and how many pixels it refines (issue 10).
 
-The raster's refined pixels (``primary.py``: proxies, raster misses, and silhouettes, pixels whose
-4-neighbourhood shows another object) are re-traced by their camera rays. On the GPU they cost
-the trace launch ~0.1 ms (Sponza, 4.5 % of its pixels at 1280×720; docs/results/gpu/issue10/stop34).
+The raster's refined pixels (``primary.py``: proxies, raster misses, and the outline pixels of
+``outline``) are re-traced by their camera rays. On the GPU they cost the trace launch ~0.1 ms
+(Sponza, 4.5 % of its pixels at 1280×720 with ``silhouettes``; docs/results/gpu/issue10/stop34).
 This probe counts, per scene, rasterizer (``draw``, OpenGL's fixed-function rasterizer, whose
 vertices snap to 1/256 pixel; ``compute``, ``raster/compute.py``'s float edge functions) and
 sub-pixel offset, the pixels whose primary hit differs from the camera ray's (hit or miss,
-object, or distance beyond 1e-4 relative) with the silhouettes refined, and with them not refined
-(``primary.silhouettes`` replaced by "no pixel", the probe's one intervention), with the share of
-refined pixels in each case: what a narrower test than "a neighbour differs" would have to catch.
+object, or distance beyond 1e-4 relative), with the share of refined pixels, for each outline
+test (``primary.OUTLINES``: ``ties``, the default, and ``silhouettes``, every pixel next to
+another object) and for none (``primary.silhouettes`` replaced by "no pixel", the probe's one
+intervention): what each test catches, and at what share of the frame.
 
     python scripts/refine_need.py --resx 320 --resy 180 -o docs/results/cpu/refine_need.md
 """
@@ -54,11 +55,12 @@ def main() -> None:
             bad |= valid & np.array(ours.valid) & ~(np.abs(t_ours - t_theirs) <= 1e-4 * np.maximum(t_theirs, 1.0))
         return int(bad.sum())
 
-    lines = [f"# Primary hits the silhouette refinement corrects ({args.variant}, {args.resx}×{args.resy})", "",
+    lines = [f"# Primary hits each outline test leaves wrong ({args.variant}, {args.resx}×{args.resy})", "",
              f"Command: `python scripts/refine_need.py --resx {args.resx} --resy {args.resy}`", "",
              "Pixels whose primary hit differs from the camera ray's, and the share of refined pixels.", "",
-             "| scene | rasterizer | offset | with silhouettes: wrong / refined | without: wrong / refined |",
-             "|---|---|---|---|---|"]
+             "| scene | rasterizer | offset | ties: wrong / refined | silhouettes: wrong / refined "
+             "| no outline test: wrong / refined |",
+             "|---|---|---|---|---|---|"]
     for name, path in SCENES.items():
         scene = load_scene(str(path), resx=args.resx, resy=args.resy)
         sensor = scene.sensors()[0]
@@ -67,17 +69,17 @@ def main() -> None:
         raster = hi.rasterizer(scene)
         for method in ("draw", "compute"):
             for offset in OFFSETS:
-                ray = primary.camera_rays(sensor, w, h, offset)
+                ray = primary.camera_rays(sensor, w, h, offset, differentials=True)
                 ids = raster.device_ids(raster.render(camera, offset, method))
                 theirs = primary.traced_hits(scene, ray, raster.tables)
                 cells = []
-                for refine_silhouettes in (True, False):
-                    primary.silhouettes = silhouettes if refine_silhouettes else (
-                        lambda label_at, width, height: dr.zeros(mi.Bool, width * height))
-                    ours = primary.primary_hits(scene, ray, ids, w, h, raster.tables)
+                for outline, test in (("ties", silhouettes), ("silhouettes", silhouettes),
+                                      ("silhouettes", lambda label_at, width, height: dr.zeros(mi.Bool, width * height))):
+                    primary.silhouettes = test
+                    ours = primary.primary_hits(scene, ray, ids, w, h, raster.tables, outline)
                     cells.append(f"{wrong(ours, theirs)} / {(np.array(ours.refined) > 0).mean():.3%}")
                 primary.silhouettes = silhouettes
-                lines.append(f"| {name} | {method} | {offset} | {cells[0]} | {cells[1]} |")
+                lines.append(f"| {name} | {method} | {offset} | {' | '.join(cells)} |")
                 print(lines[-1], flush=True)
     if args.output:
         args.output.parent.mkdir(parents=True, exist_ok=True)

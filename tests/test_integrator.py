@@ -24,14 +24,19 @@ PRIMARY_SCENES = {
 }
 
 
+@pytest.mark.parametrize("method, outline", [("draw", "silhouettes"), ("compute", "ties")])
 @pytest.mark.parametrize("name", ["default", "showcase", "sponza"])
-def test_refined_raster_hits_are_the_camera_rays_hits(name):
-    """The raster's primary hits, silhouettes refined by a ray (primary.py), are the camera rays'
-    on every pixel: hit or miss, object and distance. (Without the refinement, 1-50 pixels of these
-    views differ; the rendered images hardly show it, test_raster_primaries_match_camera_rays.)"""
-    from hybrid_integrator.primary import camera_rays, primary_hits, traced_hits
+def test_refined_raster_hits_are_the_camera_rays_hits(name, method, outline):
+    """The raster's primary hits, outline pixels refined by a ray (primary.py), are the camera rays'
+    on every pixel: hit or miss, object and distance, with each rasterizer and the outline test
+    ``outline="auto"`` gives it. (Without the refinement, 1-78 pixels of these views differ; the
+    rendered images hardly show it, test_raster_primaries_match_camera_rays.) The ``ties`` test
+    refines under a quarter of the pixels ``silhouettes`` does (0.2-1.3 % against 5-17 %,
+    docs/results/cpu/refine_need.md)."""
+    from hybrid_integrator.primary import camera_rays, primary_hits, resolve_outline, traced_hits
     from hybrid_integrator.raster.camera import RasterCamera
 
+    assert resolve_outline("auto", method) == outline
     path, params = PRIMARY_SCENES[name]
     scene = load(path, **params)
     sensor = scene.sensors()[0]
@@ -39,14 +44,61 @@ def test_refined_raster_hits_are_the_camera_rays_hits(name):
     w, h = camera.width, camera.height
     raster = hi.rasterizer(scene)
     for offset in ((0.5, 0.5), (0.13, 0.77)):
-        ray = camera_rays(sensor, w, h, offset)
-        ours = primary_hits(scene, ray, raster.device_ids(raster.render(camera, offset)), w, h, raster.tables)
+        ray = camera_rays(sensor, w, h, offset, differentials=True)
+        ids = raster.device_ids(raster.render(camera, offset, method))
+        ours = primary_hits(scene, ray, ids, w, h, raster.tables, outline)
         theirs = traced_hits(scene, ray, raster.tables)
         valid = np.array(theirs.valid)
         assert valid.mean() > 0.3 and np.array_equal(np.array(ours.valid), valid)
         assert np.array_equal(np.array(ours.object)[valid], np.array(theirs.object)[valid])
         t_ours, t_theirs = np.array(ours.si.t)[valid], np.array(theirs.si.t)[valid]
         assert np.all(np.abs(t_ours - t_theirs) <= 1e-4 * np.maximum(t_theirs, 1.0))
+        if outline == "ties":
+            every = primary_hits(scene, ray, ids, w, h, raster.tables, "silhouettes")
+            refined, outlines = (np.count_nonzero(np.array(x.refined)) for x in (ours, every))
+            assert 0 < refined < outlines / 4
+
+
+def test_outline_ties_needs_the_rays_differentials():
+    from hybrid_integrator.primary import camera_rays, primary_hits
+    from hybrid_integrator.raster.camera import RasterCamera
+
+    scene = load(DEFAULT_SCENE, resx=32, resy=18)
+    sensor = scene.sensors()[0]
+    camera = RasterCamera.from_sensor(sensor)
+    raster = hi.rasterizer(scene)
+    ids = raster.device_ids(raster.render(camera))
+    with pytest.raises(ValueError, match="outline='ties' measures pixels with the rays' differentials"):
+        primary_hits(scene, camera_rays(sensor, 32, 18, (0.5, 0.5)), ids, 32, 18, raster.tables, "ties")
+    with pytest.raises(ValueError, match="outline='auto' is not one of"):
+        primary_hits(scene, camera_rays(sensor, 32, 18, (0.5, 0.5), differentials=True), ids, 32, 18, raster.tables,
+                     "auto")
+
+
+def test_edge_margin_is_the_distance_to_the_edge_in_pixels():
+    """``primary.edge_margin``: a pinhole camera 100 px wide with a 90° field of view looks along
+    +z; a pixel is 2·z/100 wide at depth z, so a sample 0.01 inside the vertical edge of a triangle
+    facing it at depth 2 lies 0.25 pixel from it, and 0.01 outside, -0.25. Turned 60° about the
+    vertical axis, the triangle's edge 0.02 from the sample within its plane (0.01 across the
+    film's axis, at depth 2 - 0.017) is 0.252 pixel away: the film's distance, foreshortened (to
+    4 %: the margin's gradient is a difference over one pixel, where perspective bends it)."""
+    import drjit as dr
+
+    from hybrid_integrator.primary import camera_rays, edge_margin
+
+    sensor = mi.load_dict({"type": "perspective", "fov": 90, "fov_axis": "x", "near_clip": 0.01,
+                           "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 0], target=[0, 0, 1], up=[0, 1, 0]),
+                           "film": {"type": "hdrfilm", "width": 100, "height": 100}})
+    ray = camera_rays(sensor, 100, 100, (0.0, 0.0), differentials=True)
+    center = dr.gather(type(ray), ray, 50 * 100 + 50)  # the corner of pixel (50, 50): the ray along +z
+    slope = float(np.tan(np.radians(60.0)))
+    for inside, tilt, expected, tolerance in ((0.01, 0.0, 0.25, 2e-3), (-0.01, 0.0, -0.25, 2e-3),
+                                              (0.01, slope, 0.2522, 0.04 * 0.2522)):
+        edge, third = -inside, 5.0  # the third vertex on the sample's side of the edge at x = -inside
+        p0, p1, p2 = (mi.Point3f(x, y, 2.0 + tilt * x) for x, y in ((edge, -5.0), (edge, 5.0), (third, 0.0)))
+        t, _, margin = edge_margin(center, p0, p1, p2)
+        assert abs(float(t[0]) - (2.0 - 0.01)) < 1e-5  # camera rays start on the near plane
+        assert abs(float(margin[0]) - expected) < tolerance, (inside, tilt, float(margin[0]))
 
 
 REFINE_CASES = {
@@ -266,6 +318,7 @@ def test_bad_properties_are_clear_errors():
     cases = [({"effects": "glow"}, "unknown effect"), ({"primary": "camera"}, "primary='camera' is not one of"),
              ({"raster": "hardware"}, "raster='hardware' is not one of"),
              ({"refine": "later"}, "refine='later' is not one of"),
+             ({"outline": "edges"}, "outline='edges' is not one of"),
              ({"blend": 1.5}, r"blend=1.5 must lie in \[0, 1\]"), ({"budget_ms": -1.0}, "budget_ms=-1.0 is impossible"),
              ({"budget_ms": float("nan")}, "budget_ms=nan is impossible"), ({"max_depth": -3}, "max_depth=-3"),
              ({"colour": 1}, "has no property 'colour'")]
