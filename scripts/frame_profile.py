@@ -29,6 +29,10 @@ def main() -> None:
     parser.add_argument("--primary", default="raster", choices=("raster", "raytrace"))
     parser.add_argument("--refine", default=None, choices=("auto", "primary", "trace"),
                         help="where the raster's refined pixels are traced (default: the integrator's)")
+    parser.add_argument("--raster", default=None, choices=("auto", "draw", "compute"),
+                        help="how the raster pass rasterizes (default: the integrator's)")
+    parser.add_argument("--outline", default=None, choices=("auto", "ties", "silhouettes"),
+                        help="which outline pixels are refined (default: the integrator's)")
     parser.add_argument("--candidates", default=None, help="the integrator's candidates ('' for the raster layer alone)")
     parser.add_argument("--rr-depth", type=int, default=None, help="the integrator's rr_depth (default: its own)")
     parser.add_argument("--top", type=int, default=25)
@@ -47,7 +51,7 @@ def main() -> None:
     scene, _ = load_bench_scene(str(args.scene), dict(d.split("=", 1) for d in args.defines))
     camera = sensor_to_world(scene.sensors()[0])
     props = {"primary": args.primary, **({"candidates": args.candidates} if args.candidates is not None else {}),
-             **({"refine": args.refine} if args.refine is not None else {}),
+             **{k: getattr(args, k) for k in ("refine", "raster", "outline") if getattr(args, k) is not None},
              **({"rr_depth": args.rr_depth} if args.rr_depth is not None else {})}
     hi.render_sequence(scene, [camera] * 3, spp=args.spp, layers=False, **props)  # compiles and records
     profile = cProfile.Profile()
