@@ -325,15 +325,6 @@ class PassStatic:
     #: the long paths over them (the Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms
     #: long paths first)
     long_first: bool = False
-    #: the lighting kernel evaluates every target read later (the denoiser's guides, the history's
-    #: surface, the AOVs), with the BSDF calls it makes anyway, so that the composition need not
-    #: call the BSDF again for the guides' specular albedo: on the LLVM backend, where that call
-    #: costs (Sponza 640×360 with ``trace``: composition 19.9 → 9.6 ms, lighting 51.1 → 58.1,
-    #: docs/results/cpu/kernels_stop34). Not on CUDA: there the composition's call costs 0.03 ms,
-    #: and with the targets kept from the lighting the H200's trace stage took 0.13 ms longer on
-    #: Sponza (12.90–12.91 against 12.77 ms, two rounds in turn), with the same trace kernels (their
-    #: hashes on LLVM), for a reason not found (docs/results/gpu/issue10/stop35, ``ab.sh``)
-    targets_in_lighting: bool = True
 
     @property
     def kept(self) -> tuple[str, ...]:
@@ -486,9 +477,11 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     def lit(hits: PrimaryHits, *kept) -> tuple[PixelTerms, mi.Bool]:
         """2. deferred lighting: the raster layer (§3.1, Fig. 1g); 3. selection (§4)"""
         terms, long = surface_terms(scene, hits, data, static, eye)
-        # every target read later in this kernel, or only the AOVs (PassStatic.targets_in_lighting)
-        targets = terms.targets.values() if static.targets_in_lighting else (terms.targets[k] for k in static.aovs)
-        clock.mark("lighting", terms.raster, terms.shaded, terms.albedo, list(targets), *(getattr(terms, k) for k in kept))
+        # every target read later (the denoiser's guides, the history's surface, the AOVs) in this
+        # kernel, with the BSDF calls it makes anyway: left to the composition, each would call the
+        # BSDF again there (with the guides, a kernel of 1763 operations on the LLVM backend)
+        clock.mark("lighting", terms.raster, terms.shaded, list(terms.targets.values()),
+                   *(getattr(terms, k) for k in kept))
         return terms, long
 
     # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8);
@@ -751,8 +744,7 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled,
             film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
-            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"),
-            targets_in_lighting=not mi.variant().startswith("cuda"))
+            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"))
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
 

@@ -140,26 +140,6 @@ def test_refined_pixels_traced_in_the_trace_launch_give_the_same_frame(case):
     assert "raster" in tracing["primary"] and "raster" not in tracing["trace"] and "trace" in tracing["trace"]
 
 
-def test_targets_kept_from_the_lighting_or_made_again_give_the_same_frame():
-    """``PassStatic.targets_in_lighting`` (True on the LLVM backend, False on CUDA): the lighting
-    kernel keeps every target read later, or the composition makes the denoiser's guides again
-    from the BSDF. The denoised frames are the same, and so are their kernels but the two."""
-    import dataclasses
-
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    integrator = hi.api._integrator(dict(denoise=True))
-    images, kernels = {}, {}
-    renderer = hi.api.renderer(scene)
-    for kept in (True, False):
-        integrator.render_result(scene, spp=1, seed=3)  # the setup to change, then the frame
-        for key, (static, *rest) in list(renderer._setups.items()):
-            renderer._setups[key] = (dataclasses.replace(static, targets_in_lighting=kept), *rest)
-        images[kept] = np.array(integrator.render_result(scene, spp=1, seed=3).image)
-        kernels[kept] = {entry["hash"] for _, entry in renderer.clock.last if entry.get("hash")}
-    assert np.allclose(images[True], images[False], rtol=1e-5, atol=1e-6)
-    assert len(kernels[True] ^ kernels[False]) >= 2
-
-
 def test_refine_auto_traces_the_refined_pixels_in_the_primary_stage_on_the_cpu():
     """``refine="auto"``, the default, is resolved by backend and frame (``pipeline.resolve_refine``):
     on the LLVM backend, or where no object can be traced, the primary stage re-traces the refined
