@@ -22,11 +22,12 @@ counted in the frame statistics:
   fixed-point sub-pixel grid (1/256 pixel), so a sample lying that close to an object's outline
   can land on the wrong side of it (on a straight outline aligned with the pixel grid this flips
   a whole column at once), and both rasterizers resolve depth in floats, so where two objects
-  meet or overlap at the same depth either may win. By default (``ties``) only those pixels are
-  re-traced: the sample lies within :data:`EDGE_TOLERANCE` pixels of its own triangle's edge, or
+  meet or overlap at the same depth either may win. With ``ties`` (the default with the compute
+  raster pass, :func:`resolve_outline`) only those pixels are re-traced: the sample lies within :data:`EDGE_TOLERANCE` pixels of its own triangle's edge, or
   a neighbour's triangle covers it that closely and lies in front of the raster's hit or within
-  :data:`DEPTH_TIE` of its depth (:func:`outline_ties`). ``silhouettes`` re-traces every outline
-  pixel (:func:`silhouettes`): 3–17 % of a frame's pixels, against ~0.1–1 %;
+  :data:`DEPTH_TIE` of its depth (:func:`outline_ties`). ``silhouettes`` (the draw's) re-traces
+  every outline pixel (:func:`silhouettes`): at 320×180, 3–17 % of a frame's pixels against
+  0.2–1.3 % (``docs/results/cpu/refine_need.md``);
 - pixels whose camera ray misses the raster's triangle by more than the snapping can explain
   (``MISS_TOLERANCE`` in barycentric units).
 
