@@ -48,12 +48,12 @@ def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float,
     camera = RasterCamera.from_sensor(sensor)
     raster = rasterizer(scene)
     ids = mi.UInt32(raster.read_ids(raster.render(camera, offset, method)))
-    ray = camera_rays(sensor, camera.width, camera.height, offset, differentials=True)
+    outline = resolve_outline("auto", resolve_method(method))
+    ray = camera_rays(sensor, camera.width, camera.height, offset, differentials=outline == "ties")
     vis = visibility_buffer(ray, ids, raster.tables, camera.eye, (camera.width, camera.height), offset)
     targets = {}
     if aovs:
-        hits = primary_hits(scene, ray, ids, camera.width, camera.height, raster.tables,
-                            resolve_outline("auto", resolve_method(method)))
+        hits = primary_hits(scene, ray, ids, camera.width, camera.height, raster.tables, outline)
         targets = compute_aovs(scene, hits, vis.depth.shape, aovs)
     return GBuffer(**vars(vis), **targets, shape_ids=scene_objects(scene).names)
 

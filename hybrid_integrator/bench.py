@@ -269,11 +269,11 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     film = sensor.film().size()
     meshes = [sh for sh in scene.shapes() if isinstance(sh, mi.Mesh)]
+    method = resolve_method(properties.get("raster", "auto"))
     return {
         "scene": spec, "name": name, "variant": mi.variant(), "device": _device(),
-        "raster": resolve_method(properties.get("raster", "auto")),
-        "refine": _refine(properties.get("refine", "auto")), "outline": resolve_outline(properties.get("outline", "auto"), resolve_method(properties.get("raster", "auto"))),
-        "width": int(film[0]),
+        "raster": method, "refine": _refine(properties.get("refine", "auto")),
+        "outline": resolve_outline(properties.get("outline", "auto"), method), "width": int(film[0]),
         "height": int(film[1]), "spp": spp, "frames": frames,
         "vertices": sum(int(m.vertex_count()) for m in meshes), "triangles": scene_triangles(scene),
         "shapes": len(scene.shapes()),

@@ -140,13 +140,20 @@ def silhouettes(label_at: Callable[[mi.UInt32, mi.Bool], mi.UInt32], width: int,
     a function, not an array, so that the labels are read where they are needed, in the kernel
     that tests them (a gather from an array computed in the same kernel would make it a kernel of
     its own)."""
-    i = dr.arange(mi.UInt32, width * height)
-    x, y = i % width, i // width
+    i, neighbours = _neighbours(width, height)
     label = label_at(i, mi.Bool(True))
     edge = mi.Bool(False)
-    for inside, j in ((x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)):
+    for inside, j in neighbours:
         edge |= inside & (label_at(j, inside) != label)
     return edge
+
+
+def _neighbours(width: int, height: int) -> tuple[mi.UInt32, list[tuple[mi.Bool, mi.UInt32]]]:
+    """Every pixel of a ``width`` × ``height`` frame (row-major) and its 4-neighbours: per
+    neighbour, whether it lies inside the image and its pixel index."""
+    i = dr.arange(mi.UInt32, width * height)
+    x, y = i % width, i // width
+    return i, [(x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)]
 
 
 def ray_triangle(ray: mi.Ray3f, p0: mi.Point3f, p1: mi.Point3f, p2: mi.Point3f) -> tuple[mi.Float, mi.Point2f]:
@@ -160,9 +167,8 @@ def ray_triangle(ray: mi.Ray3f, p0: mi.Point3f, p1: mi.Point3f, p2: mi.Point3f) 
     return dr.dot(e2, qvec) * inv_det, mi.Point2f(dr.dot(tvec, pvec) * inv_det, dr.dot(ray.d, qvec) * inv_det)
 
 
-def edge_margin(ray: mi.RayDifferential3f, p0: mi.Point3f, p1: mi.Point3f,
-                p2: mi.Point3f) -> tuple[mi.Float, mi.Point2f, mi.Float]:
-    """:func:`ray_triangle`'s distance and barycentrics, and the *margin*: the signed distance in
+def edge_margin(ray: mi.RayDifferential3f, p0: mi.Point3f, p1: mi.Point3f, p2: mi.Point3f) -> tuple[mi.Float, mi.Float]:
+    """:func:`ray_triangle`'s distance, and the *margin*: the signed distance in
     pixels from the ray's sample to the triangle's nearest edge, negative outside it (NaN where the
     ray runs in the triangle's plane). A barycentric coordinate is, to first order, affine on the
     film, so its change to the rays one pixel across and one down (the ray's differentials) is its
@@ -179,7 +185,7 @@ def edge_margin(ray: mi.RayDifferential3f, p0: mi.Point3f, p1: mi.Point3f,
         distance = b * dr.rsqrt(dr.maximum(dr.square(b_x - b) + dr.square(b_y - b), 1e-30))
         unknown |= dr.isnan(distance)
         margin = dr.minimum(margin, distance)
-    return t, uv, dr.select(unknown, dr.nan, margin)
+    return t, dr.select(unknown, dr.nan, margin)
 
 
 def _corners(tables: TriangleTables, triangle: mi.UInt32, active: mi.Bool) -> tuple[mi.Point3f, mi.Point3f, mi.Point3f]:
@@ -243,11 +249,10 @@ def outline_ties(ray: mi.RayDifferential3f, record: RasterRecord, triangle_id: m
     triangles seen at the pixel and its neighbours are tested: one that no sample shows (smaller
     than a pixel, between the samples) goes untested, as it does for :func:`silhouettes`. Unknown
     margins (NaN) count as doubted."""
-    i = dr.arange(mi.UInt32, width * height)
-    x, y = i % width, i // width
+    _, neighbours = _neighbours(width, height)
     own = _label(triangle_id, mi.Bool(True), tables)
     outline, drawn, other = mi.Bool(False), [], []
-    for inside, j in ((x + 1 < width, i + 1), (x > 0, i - 1), (y + 1 < height, i + width), (y > 0, i - width)):
+    for inside, j in neighbours:
         drawn.append(dr.gather(mi.UInt32, triangle_id, j, inside))
         other.append(inside & (_label(drawn[-1], inside, tables) != own))
         outline |= other[-1]
@@ -256,11 +261,11 @@ def outline_ties(ray: mi.RayDifferential3f, record: RasterRecord, triangle_id: m
         """the tests, on the outline pixels' lanes alone (a branch: the GPU's warps and the CPU's
         packets without an outline pixel skip them)"""
         hit, t = record.hit, dr.select(record.hit, record.t, dr.inf)
-        _, _, margin = edge_margin(ray, *_corners(tables, triangle_id - 1, hit))
+        _, margin = edge_margin(ray, *_corners(tables, triangle_id - 1, hit))
         doubted = hit & ~(margin >= EDGE_TOLERANCE)
         for number, differs in zip(drawn, other):
             tested = differs & (number > 0)
-            t_other, _, margin = edge_margin(ray, *_corners(tables, number - 1, tested))
+            t_other, margin = edge_margin(ray, *_corners(tables, number - 1, tested))
             covers = ~(margin < -EDGE_TOLERANCE) & ~(t_other <= 0.0) & ~(t_other >= t * (1.0 + DEPTH_TIE))
             tie = hit & ~(dr.abs(t_other - t) > DEPTH_TIE * t)
             doubted |= tested & (covers | tie)

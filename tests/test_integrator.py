@@ -96,7 +96,7 @@ def test_edge_margin_is_the_distance_to_the_edge_in_pixels():
                                               (0.01, slope, 0.2522, 0.04 * 0.2522)):
         edge, third = -inside, 5.0  # the third vertex on the sample's side of the edge at x = -inside
         p0, p1, p2 = (mi.Point3f(x, y, 2.0 + tilt * x) for x, y in ((edge, -5.0), (edge, 5.0), (third, 0.0)))
-        t, _, margin = edge_margin(center, p0, p1, p2)
+        t, margin = edge_margin(center, p0, p1, p2)
         assert abs(float(t[0]) - (2.0 - 0.01)) < 1e-5  # camera rays start on the near plane
         assert abs(float(margin[0]) - expected) < tolerance, (inside, tilt, float(margin[0]))
 
