@@ -647,25 +647,14 @@ class HybridRenderer:
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
             dr.kernel_history_clear()
             clock = _HostClock()
-            aovs, sensor = check_aovs(aovs), resolve_sensor(self.scene, sensor)
-            camera, spp = RasterCamera.from_sensor(sensor), int(spp) or sensor.sampler().sample_count()
+            frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
             # a sequence's frames take seeds seed, seed + 1, ...: the previous frame made these
-            offsets = self._next_offsets.pop((spp, seed), None) or subpixel_offsets(spp, seed)
+            offsets = self._next_offsets.pop((frame.stats.spp, seed), None) or subpixel_offsets(frame.stats.spp, seed)
             clock.lap("setup")
-            # the first pass's visibility buffer first (1), before the host sets the frame up: its
-            # OpenGL work reaches CUDA's stream 0.3-0.5 ms after its issue on the H200
-            # (scripts/interop_probe.py); then every pass's, each copied before the next is drawn
-            # (the draw has one target), all before the host plans the frame (a budget's selection:
-            # 0.3-0.4 ms on the H100's host): OpenGL's and CUDA's work take turns on the GPU, so a
-            # pass issued after a pass's device work would wait for all of it
-            first = self._raster_pass(settings, camera, 0, offsets[0])
-            clock.lap("raster")
-            frame = self._frame(settings, sensor, camera, aovs, spp, layers)
-            clock.lap("setup")
-            ids = [self._visibility(camera, first)] + [
-                self._visibility(camera, self._raster_pass(settings, camera, sample, offset))
-                for sample, offset in enumerate(offsets[1:], start=1)]
-            clock.lap("raster")
+            # every pass's visibility buffer first (1): OpenGL draws while the host sets up and
+            # plans the frame (a budget's selection: 0.3-0.4 ms on the H100's host), and OpenGL's and CUDA's work
+            # take turns on the GPU, so a draw issued after a pass's device work would wait for all of it
+            ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
             tables = [t if settings.learn_ambient else t[:0] for t in (state.ambient, state.indirect)]
             frame.ambient, frame.indirect = (device_array(mi.Float, ambient_table(t, len(self.objects)).ravel())
                                                  for t in tables)
@@ -707,14 +696,14 @@ class HybridRenderer:
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
         return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images, composed=composed)
 
-    def _frame(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...], spp: int,
-               layers: bool) -> _Frame:
+    def _frame(self, settings: HybridSettings, sensor: mi.Sensor, aovs: tuple[str, ...], spp: int, layers: bool) -> _Frame:
         """The frame's fixed parts; what depends only on the settings is made once and kept."""
+        camera = RasterCamera.from_sensor(sensor)
         key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
         if key not in self._setups:
             self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
         static, active, candidate_config, every, tiers = self._setups[key]
-        stats = FrameStats(width=camera.width, height=camera.height, spp=spp,
+        stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
         return _Frame(sensor=sensor, camera=camera, static=static, setup=key, active=active, stats=stats,
@@ -832,35 +821,27 @@ class HybridRenderer:
               clock: "_HostClock | None" = None) -> PassOutput:
         """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
         clock = clock or _HostClock()
-        target = self._raster_pass(settings, frame.camera, sample, offset, slot=frame.stats.spp)
-        triangle_id = self._visibility(frame.camera, target)
-        clock.lap("raster")
+        triangle_id = self._visibility(settings, frame, sample, offset, clock, timed=False)
         return self._device(settings, frame, config, seed, sample, offset, triangle_id, clock)
 
-    def _raster_pass(self, settings: HybridSettings, camera: RasterCamera, sample: int, offset,
-                     slot: int | None = None):
-        """Stage 1 of one sample pass on the GPU: the visibility pass issued to OpenGL and flushed
-        (``raster.visibility.RasterTarget``; camera rays need none: None). A pass of the frame's
-        own (``slot`` None) is timed by a GL query (its GL time is the frame's) and takes the
-        sample's target; a probe's pass is not timed and takes ``slot``, one after the frame's
-        (``Rasterizer.render``: CUDA may not have copied the frame's targets yet)."""
-        if settings.primary != "raster":
-            return None
-        timed = slot is None
-        if timed and len(self._gl_queries) <= sample:
-            self._gl_queries.append(self.raster.ctx.query(time=True))
-        # the draw alone: the query's end waits for nothing of CUDA's
-        with self._gl_queries[sample] if timed else contextlib.nullcontext():
-            target = self.raster.render(camera, offset, settings.raster, slot=sample if timed else slot)
-        gl_flush()  # the pass and the query's end to the GPU now
-        return target
-
-    def _visibility(self, camera: RasterCamera, target) -> mi.UInt32:
-        """A raster pass's visibility buffer (:meth:`_raster_pass`) as a Dr.Jit array, copied on
-        CUDA's stream behind the pass (``raster.interop``); zeros for camera rays."""
-        if target is None:
-            return dr.zeros(mi.UInt32, camera.width * camera.height)
-        return self.raster.device_ids(target)
+    def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock",
+                    timed: bool = True) -> mi.UInt32:
+        """Stage 1 of one sample pass: the visibility buffer drawn by OpenGL, as a Dr.Jit array
+        (camera rays need none: zeros). ``timed``: the draw's GL time is the frame's (a timer
+        query per sample pass; a probe's draw is not timed)."""
+        camera = frame.camera
+        if settings.primary == "raster":
+            if timed and len(self._gl_queries) <= sample:
+                self._gl_queries.append(self.raster.ctx.query(time=True))
+            # the draw alone: the query's end waits for nothing of CUDA's
+            with self._gl_queries[sample] if timed else contextlib.nullcontext():
+                fbo = self.raster.render(camera, offset, settings.raster)
+            gl_flush()  # the draw and the query's end to the GPU now
+            triangle_id = self.raster.device_ids(fbo)
+        else:
+            triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
+        clock.lap("raster")
+        return triangle_id
 
     def _device(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
                 triangle_id: mi.UInt32, clock: "_HostClock") -> PassOutput:

@@ -59,7 +59,7 @@ def main() -> None:
     renderer = pipeline.HybridRenderer
     for owner, names in ((pipeline, ("candidates", "plan_frame", "learn_ambient", "visibility_terms", "develop",
                                      "subpixel_offsets", "ambient_table", "device_array")),
-                         (renderer, ("_frame", "_raster_pass", "_visibility", "_select", "_device", "_post", "_account", "_plan",
+                         (renderer, ("_frame", "_visibility", "_select", "_device", "_post", "_account", "_plan",
                                      "_account_times")),
                          (budget.FrameState, ("learn_rays", "learn_errors")), (budget.CostModel, ("observe", "_fit")),
                          (pipeline.PassCounts, ("read",)), (heuristic.Coverage, ("of",)),

@@ -50,6 +50,7 @@ def main() -> None:
                                                        "SMALL_NUMBERS", "MEDIUM_NUMBERS", "TILES")}
     for name, scene, raster, camera, query in rasterizers(args):
         tris = len(raster.geometry.faces)
+        fbo = raster.target(camera.width, camera.height)
         for offset in ((0.5, 0.5), (0.13, 0.77)):
             drawn = raster.read_ids(raster.render(camera, offset, "draw")).copy()
             computed = raster.read_ids(raster.render(camera, offset, "compute"))
@@ -72,18 +73,18 @@ def main() -> None:
             two = compute.ComputeVisibility(raster.ctx, raster.vertices, raster.faces, tris, one_pass=False)
             for offset in ((0.5, 0.5), (0.13, 0.77)):
                 ones = raster.read_ids(raster.render(camera, offset, "compute")).copy()
-                twos = raster.read_ids(two.render(camera, offset))
+                twos = raster.read_ids(two.render(camera, offset, fbo))
                 print(f"{name}: offset {offset}: one pass = two passes on {int(np.sum(ones == twos)):,} of "
                       f"{ones.size:,} pixels (bit for bit: {np.array_equal(ones, twos)})", flush=True)
             times = []
             for r in range(args.repeats + 2):
                 with query:
-                    two.render(camera, (0.5, 0.5))
+                    two.render(camera, (0.5, 0.5), fbo)
                 raster.ctx.finish()
                 if r >= 2:
                     times.append(query.elapsed * 1e-6)
             stages = {names[k]: round(v, 4) for k, v in
-                      stage_times(raster, lambda: two.render(camera, (0.5, 0.5)), args.repeats).items()}
+                      stage_times(raster, lambda: two.render(camera, (0.5, 0.5), fbo), args.repeats).items()}
             print(f"{name}: two passes {statistics.median(times):.3f} ms against one pass {compute_ms:.3f} ms; "
                   f"stages (ms) {stages}", flush=True)
 

@@ -124,6 +124,7 @@ def test_one_pass_compute_is_the_two_pass_bit_for_bit_or_names_what_it_needs():
     scene = load(SCENES["sponza"], resx=192, resy=108)
     raster = hi.rasterizer(scene)
     camera = RasterCamera.from_sensor(scene.sensors()[0])
+    fbo = raster.target(camera.width, camera.height)
     passes = {}
     for one_pass in (False, True):
         if one_pass and ATOMIC64 not in raster.ctx.extensions:
@@ -132,7 +133,7 @@ def test_one_pass_compute_is_the_two_pass_bit_for_bit_or_names_what_it_needs():
             assert not ComputeVisibility(raster.ctx, raster.vertices, raster.faces, len(raster.geometry.faces)).one_pass
             continue
         visibility = ComputeVisibility(raster.ctx, raster.vertices, raster.faces, len(raster.geometry.faces), one_pass)
-        passes[one_pass] = raster.read_ids(visibility.render(camera, (0.3, 0.6))).copy()
+        passes[one_pass] = raster.read_ids(visibility.render(camera, (0.3, 0.6), fbo)).copy()
         assert visibility.tiers()[0] > 0 and visibility.tiers()[1] > 0 and (passes[one_pass] > 0).mean() > 0.99
     if True in passes:
         assert np.array_equal(passes[True], passes[False])
@@ -331,32 +332,3 @@ def test_relative_clip_is_the_shifted_projection_around_the_eye():
             expected[:, 3] = clip @ np.r_[origin.astype(np.float64), 1.0]
             assert np.array_equal(camera.clip_matrix((ox, oy)).astype(np.float32), clip.astype(np.float32))
             assert np.array_equal(relative.astype(np.float32), expected.astype(np.float32))
-
-
-def test_compute_pass_leaves_its_serial_after_its_buffer_one_target_per_slot():
-    """The compute pass's target (``compute.ComputeTarget``): the visibility buffer, then the pass's
-    serial number, which CUDA waits for before it copies (``interop._SharedBuffer``). Each slot is
-    a buffer of its own (a frame's second pass leaves its first pass's buffer as it was); the
-    numbers grow from pass to pass, and after 2³² − 1 passes every target's word is set back to 0
-    before the numbers start again at 1 (CUDA waits for a word to reach at least its number)."""
-    from hybrid_integrator.raster.camera import RasterCamera
-
-    scene = load(DEFAULT_SCENE, resx=64, resy=48)
-    raster = hi.rasterizer(scene)
-    camera = RasterCamera.from_sensor(scene.sensors()[0])
-
-    def word(target):
-        return int(np.frombuffer(target.buffer.read(), np.uint32)[-1])
-
-    first = raster.render(camera, (0.3, 0.6), "compute", slot=0)
-    alone = raster.read_ids(first).copy()
-    second = raster.render(camera, (0.8, 0.1), "compute", slot=1)
-    assert first.buffer is not second.buffer and second.serial == first.serial + 1
-    assert word(first) == first.serial and word(second) == second.serial
-    assert np.array_equal(raster.read_ids(first), alone) and not np.array_equal(raster.read_ids(second), alone)
-    assert first.buffer.size == 4 * (camera.width * camera.height + 1)
-
-    raster._compute._serial = 0xFFFFFFFF  # the last number: the next pass starts them again
-    again = raster.render(camera, (0.3, 0.6), "compute", slot=0)
-    assert again.serial == 1 and word(again) == 1 and word(second) == 0
-    assert np.array_equal(raster.read_ids(again), alone)

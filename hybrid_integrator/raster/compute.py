@@ -9,24 +9,21 @@ buffer; Kenzel et al. 2018) rasterize small triangles in compute shaders, one in
 triangle, resolving visibility with atomics. This module does all of it in moderngl compute
 shaders (``shaders/visibility.comp`` explains the method: small triangles one per invocation,
 medium ones one per work group, large ones by screen tiles): the result is the draw's visibility buffer (the global triangle
-number + 1 per pixel, 0 for the background, at the camera's sub-pixel offset), left in a storage
-buffer that CUDA copies (``interop.Readback``): everything after stage 1 is unchanged.
+number + 1 per pixel, 0 for the background, at the camera's sub-pixel offset) in the draw's own
+target texture, so interop (``interop.Readback``) and everything after stage 1 are unchanged.
 
-Per frame: six dispatches, no host wait and no graphics work: clear; the small triangles'
+Per frame: five dispatches, no host wait and no graphics work: clear; the small triangles'
 depth and number, and the lists of the others; the medium triangles' dispatch size, then their
-depth and number; the tiles of the large ones; last, one invocation writes the pass's serial
-number after the visibility buffer, for CUDA's stream to wait on (:class:`ComputeTarget`). Depth
-and number go into one 64-bit word per pixel,
+depth and number; the tiles of the large ones. Depth and number go into one 64-bit word per pixel,
 resolved by one 64-bit ``atomicMax`` (``GL_NV_shader_atomic_int64``, the ``one_pass`` pass). A GL
 without 64-bit atomics (Mesa 22's llvmpipe, which CI runs) rasterizes the small and the medium
-triangles twice, the depths, then the numbers where the depth won: eight dispatches, the same
+triangles twice, the depths, then the numbers where the depth won: seven dispatches, the same
 visibility buffer bit for bit (``scripts/raster_compute_probe.py`` compares the two on the GPU).
 The geometry is the draw's, uploaded once.
 """
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -43,34 +40,13 @@ LISTED_BYTES = 64
 #: the most work groups OpenGL guarantees per dispatch dimension
 MAX_GROUPS = 65535
 #: the shader's stages (``visibility.comp``), numbered in the order they run
-CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES, DONE = range(8)
-#: the storage-buffer binding of the target (``Target`` in the shader)
-TARGET_BINDING = 7
+CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES = range(7)
 #: the extension whose 64-bit atomics resolve depth and number in one pass
 ATOMIC64 = "GL_NV_shader_atomic_int64"
 _MEDIUM_GROUPS_OFFSET = 8  # bytes into the counts buffer: the indirect dispatch of the medium triangles
 #: per GL context, the :class:`ComputeVisibility` whose buffers and target are bound to its
 #: storage-buffer and image units (nothing else in the package binds them)
 _BOUND: dict[int, "weakref.ref[ComputeVisibility]"] = {}
-
-
-@dataclass(frozen=True)
-class ComputeTarget:
-    """Where a compute pass left its visibility buffer: ``buffer`` holds ``width × height`` words
-    (row-major, row 0 at the top: the draw's layout), then one more, the pass's ``serial`` number,
-    written once every other write of the pass is done. CUDA waits on the GPU for that word to reach
-    ``serial`` before it copies the buffer (``interop.Readback``): the map of a buffer does not wait
-    for OpenGL's compute writes, and the map of a texture, which does, costs the H200 ~0.4 ms of
-    latency per frame (``scripts/interop_probe.py``)."""
-
-    buffer: moderngl.Buffer
-    width: int
-    height: int
-    serial: int
-
-    def read(self) -> np.ndarray:
-        """The visibility buffer on the host (OpenGL waits for the pass)."""
-        return np.frombuffer(self.buffer.read(size=4 * self.width * self.height), dtype=np.uint32)
 
 
 def _grid(invocations: int) -> tuple[int, int, int]:
@@ -101,8 +77,8 @@ class ComputeVisibility:
             source = f"{version}\n#define ONE_PASS\n{rest}"
         self.program = ctx.compute_shader(source)
         #: the stages a pass runs (the two NUMBERS stages only without 64-bit atomics)
-        self.stages = ((CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, TILES, DONE) if self.one_pass else
-                       (CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES, DONE))
+        self.stages = ((CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, TILES) if self.one_pass else
+                       (CLEAR, SMALL_DEPTH, MEDIUM_GROUPS, MEDIUM_DEPTH, SMALL_NUMBERS, MEDIUM_NUMBERS, TILES))
         self._storage = [
             vertices, faces,
             None, None,  # per pixel: depth and number (one_pass: one 64-bit word, binding 2), per film size
@@ -110,43 +86,16 @@ class ComputeVisibility:
             ctx.buffer(reserve=LISTED_BYTES * max(self.triangles, 1)),  # the large triangles
             ctx.buffer(reserve=4 * max(self.triangles, 1)),  # the medium triangles' numbers
         ]
-        self._depths: dict[tuple[int, int], tuple[moderngl.Buffer, moderngl.Buffer | None]] = {}
-        self._targets: dict[tuple[int, int, int], moderngl.Buffer] = {}  # per film size and slot (render)
+        self._targets: dict[tuple[int, int], tuple[moderngl.Buffer, moderngl.Buffer | None]] = {}
         self._size = None  # the film size the program's uniforms and the context's bindings are set for
-        self._bound_target = None  # the target buffer bound to TARGET_BINDING
-        self._serial = 0
 
-    def _depth_words(self, width: int, height: int) -> tuple[moderngl.Buffer, moderngl.Buffer | None]:
-        """The atomics' per-pixel words of a film size (``one_pass``: one 64-bit word each)."""
+    def _target(self, width: int, height: int) -> tuple[moderngl.Buffer, moderngl.Buffer | None]:
         key = (width, height)
-        if key not in self._depths:
-            pixels = width * height
-            self._depths[key] = ((self.ctx.buffer(reserve=8 * pixels), None) if self.one_pass else
-                                 (self.ctx.buffer(reserve=4 * pixels), self.ctx.buffer(reserve=4 * pixels)))
-        return self._depths[key]
-
-    def _target(self, width: int, height: int, slot: int) -> moderngl.Buffer:
-        key = (width, height, slot)
         if key not in self._targets:
-            self._targets[key] = self.ctx.buffer(reserve=4 * (width * height + 1))
-            self._targets[key].clear()  # serial 0: below every pass's
+            pixels = width * height
+            self._targets[key] = ((self.ctx.buffer(reserve=8 * pixels), None) if self.one_pass else
+                                  (self.ctx.buffer(reserve=4 * pixels), self.ctx.buffer(reserve=4 * pixels)))
         return self._targets[key]
-
-    def _next_serial(self) -> int:
-        """The next pass's serial number. CUDA waits for a target's word to reach at least its
-        pass's number (``interop._SharedBuffer``), so the numbers grow; after 2³² − 1 passes, once
-        OpenGL and CUDA are done, every target's word is set back to 0 and the numbers start again
-        at 1."""
-        if self._serial == 0xFFFFFFFF:
-            import drjit as dr
-
-            self.ctx.finish()
-            dr.sync_thread()  # every wait issued has seen its number
-            for (width, height, _), buffer in self._targets.items():
-                buffer.write(bytes(4), offset=4 * width * height)
-            self._serial = 0
-        self._serial += 1
-        return self._serial
 
     def _run(self, stage: int, grid: tuple[int, int, int] | None) -> None:
         """Dispatch one stage (``grid`` None: the medium triangles' indirect dispatch), then the
@@ -159,42 +108,35 @@ class ComputeVisibility:
         barrier = moderngl.SHADER_STORAGE_BARRIER_BIT
         if stage == MEDIUM_GROUPS:
             barrier |= moderngl.COMMAND_BARRIER_BIT
-        self.ctx.memory_barrier(moderngl.ALL_BARRIER_BITS if stage in (TILES, DONE) else barrier)
+        self.ctx.memory_barrier(moderngl.ALL_BARRIER_BITS if stage == TILES else barrier)
 
     def tiers(self) -> tuple[int, int]:
         """The last pass's large and medium triangle counts (a host read: for tests and probes)."""
         large, medium = np.frombuffer(self._storage[4].read(8), np.uint32)
         return int(large), int(medium)
 
-    def render(self, camera: RasterCamera, offset: tuple[float, float], slot: int = 0) -> ComputeTarget:
-        """The visibility pass at ``offset`` into the target buffer of the camera's film size and
-        ``slot``: a frame's sample passes take one each, since CUDA may not have copied one pass's
-        buffer yet when the next pass is issued."""
+    def render(self, camera: RasterCamera, offset: tuple[float, float], fbo: moderngl.Framebuffer) -> moderngl.Framebuffer:
+        """The visibility pass at ``offset`` into ``fbo``, the draw's target of the camera's size."""
         w, h = camera.width, camera.height
         program = self.program
         clip, origin = camera.relative_clip(offset)
         program["world_to_clip"].write(clip.T.astype("f4").tobytes())
         program["origin"].write(origin.tobytes())
-        program["serial"].value = self._next_serial()
-        # the size and the buffers change with the film's size alone: set again only then, or after
-        # another pass bound its own (the bindings are the context's state)
-        target = self._target(w, h, slot)
+        # the size, the buffers and the target change with the film's size alone: set again only
+        # then, or after another pass bound its own (the bindings are the context's state)
         bound = _BOUND.get(id(self.ctx))
         if self._size != (w, h) or bound is None or bound() is not self:
-            self._storage[2:4] = self._depth_words(w, h)
+            self._storage[2:4] = self._target(w, h)
             program["size"].value = (w, h)
             program["triangles"].value = self.triangles
             for binding, buffer in enumerate(self._storage):
                 if buffer is not None:
                     buffer.bind_to_storage_buffer(binding)
-            self._size, self._bound_target, _BOUND[id(self.ctx)] = (w, h), None, weakref.ref(self)
-        if self._bound_target is not target:
-            target.bind_to_storage_buffer(TARGET_BINDING)
-            self._bound_target = target
+            fbo.color_attachments[0].bind_to_image(0, read=False, write=True)
+            self._size, _BOUND[id(self.ctx)] = (w, h), weakref.ref(self)
         triangles, medium = _grid(self.triangles), None  # None: the indirect dispatch
         grids = {CLEAR: _grid(w * h), SMALL_DEPTH: triangles, MEDIUM_GROUPS: (1, 1, 1), MEDIUM_DEPTH: medium,
-                 SMALL_NUMBERS: triangles, MEDIUM_NUMBERS: medium, TILES: (-(-w // TILE), -(-h // TILE), 1),
-                 DONE: (1, 1, 1)}
+                 SMALL_NUMBERS: triangles, MEDIUM_NUMBERS: medium, TILES: (-(-w // TILE), -(-h // TILE), 1)}
         for stage in self.stages:
             self._run(stage, grids[stage])
-        return ComputeTarget(target, w, h, self._serial)
+        return fbo

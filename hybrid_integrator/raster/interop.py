@@ -1,22 +1,13 @@
 """CUDA–OpenGL interop: the raster targets reach Dr.Jit without crossing the host (paper §7).
 
 Sabino et al. share their G-buffer between OpenGL and OptiX rather than copying it through the
-CPU (§7). Here the visibility pass's one target (a triangle number per pixel) is registered once
-with CUDA, mapped every pass, and copied device to device into a Dr.Jit array on Dr.Jit's own
-CUDA stream: OpenGL does no read of its own (a ``glReadPixels`` into a pixel buffer, the way
-before, added 0.13 ms per pass to the H100's OpenGL time at 1280×720), and nothing waits on the
-host. Two kinds of target:
-
-- the draw's ``R32UI`` texture (``cuGraphicsGLRegisterImage``, its CUDA array copied with
-  ``cuMemcpy2DAsync``): mapping it orders the copy after the OpenGL commands that drew it. That
-  order has a price: on the H200 the copy ended 0.4–0.6 ms after the map, against OpenGL's 0.06–0.22 ms
-  of work (``scripts/interop_probe.py``);
-- the compute pass's storage buffer (``cuGraphicsGLRegisterBuffer``, a linear copy): the map of a
-  buffer does not wait for OpenGL's compute writes, so the stream waits on the GPU for the pass's
-  serial number, which the pass writes after the visibility buffer once the rest is done
-  (``cuStreamWaitValue32``; ``compute.ComputeTarget``). The host waits for nothing.
-
-A target stays mapped after the copy until the frame's work is issued
+CPU (§7). Here the visibility pass's one target (a triangle number per pixel, an ``R32UI``
+texture) is registered once with CUDA (``cuGraphicsGLRegisterImage``), mapped every pass, and its
+CUDA array copied device to device into a Dr.Jit array (``cuMemcpy2DAsync``) on Dr.Jit's own CUDA
+stream: OpenGL does no read of its own (a ``glReadPixels`` into a pixel buffer, the way before,
+added 0.13 ms per pass to the H100's OpenGL time at 1280×720), and nothing waits on the host (mapping orders
+the copy after the OpenGL commands that drew the texture, and the stream orders the kernels after
+it). The texture stays mapped after the copy until the frame's work is issued
 (:meth:`Readback.release`, which the renderer calls at the end of each frame, where the host waits
 for the GPU, and the rasterizer before it draws or reads): unmapped right after the copy, the
 unmap held up the kernels issued after it, and DR frames took 0.2–0.5 ms longer on the H100 where
@@ -153,85 +144,45 @@ class _Memcpy2D(ctypes.Structure):
                 ("Height", ctypes.c_size_t)]
 
 
-class _Shared:
-    """A GL object registered with CUDA once (``register``: the driver call, with ``args`` between
-    the object's name and the flags), mapped on Dr.Jit's stream by its first copy of a frame and
-    unmapped by :meth:`release`."""
-
-    _READ_ONLY = 1  # CU_GRAPHICS_REGISTER_FLAGS_READ_ONLY
-
-    def __init__(self, driver: _Driver, register: str, name: int, *args):
-        self.driver = driver
-        self.resource = ctypes.c_void_p()
-        self.mapped = False
-        driver.call(register, ctypes.byref(self.resource), ctypes.c_uint(name), *args, ctypes.c_uint(self._READ_ONLY))
-
-    def _map(self) -> None:
-        """Map unless mapped (where :meth:`_Driver.current` has made the context current)."""
-        if not self.mapped:
-            self.driver.call_current("cuGraphicsMapResources", 1, ctypes.byref(self.resource), self.driver.stream)
-            self.mapped = True
-
-    def release(self) -> None:
-        """Unmap, on Dr.Jit's stream (OpenGL may then use the object again)."""
-        if self.mapped:
-            self.mapped = False
-            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), self.driver.stream)
-
-
-class _SharedImage(_Shared):
-    """The draw's texture, copied into a Dr.Jit array per frame; mapping it orders the copy after
-    the OpenGL commands that drew it."""
+class _SharedImage:
+    """A GL texture registered with CUDA once, copied into a Dr.Jit array per frame."""
 
     _TEXTURE_2D = 0x0DE1  # GL_TEXTURE_2D
     _ARRAY, _DEVICE = 3, 2  # CU_MEMORYTYPE_ARRAY, CU_MEMORYTYPE_DEVICE
 
     def __init__(self, texture: moderngl.Texture, driver: _Driver):
-        super().__init__(driver, "cuGraphicsGLRegisterImage", texture.glo, ctypes.c_uint(self._TEXTURE_2D))
-        self.size = texture.size
+        self.driver, self.size = driver, texture.size
+        self.resource = ctypes.c_void_p()
+        self.mapped = False
+        driver.call("cuGraphicsGLRegisterImage", ctypes.byref(self.resource), ctypes.c_uint(texture.glo),
+                    ctypes.c_uint(self._TEXTURE_2D), ctypes.c_uint(1))  # CU_GRAPHICS_REGISTER_FLAGS_READ_ONLY
 
-    def copy(self) -> mi.UInt32:
+    def copy(self, array_type, bytes_per_pixel: int = 4):
         """Map (unless still mapped) and copy device to device on Dr.Jit's stream, both
-        asynchronous; the texture stays mapped until :meth:`release`."""
+        asynchronous; the texture stays mapped until :meth:`release`. Mapping orders the copy after
+        the OpenGL commands that drew the texture."""
         w, h = self.size
-        out = dr.empty(mi.UInt32, w * h)
+        out = dr.empty(array_type, w * h)
         dr.eval(out)
         array = ctypes.c_void_p()
-        row = 4 * w
+        stream, call = self.driver.stream, self.driver.call_current
+        row = w * bytes_per_pixel
         with self.driver.current():
-            self._map()
-            self.driver.call_current("cuGraphicsSubResourceGetMappedArray", ctypes.byref(array), self.resource, 0, 0)
+            if not self.mapped:
+                call("cuGraphicsMapResources", 1, ctypes.byref(self.resource), stream)
+                self.mapped = True
+            call("cuGraphicsSubResourceGetMappedArray", ctypes.byref(array), self.resource, 0, 0)
             copy = _Memcpy2D(srcMemoryType=self._ARRAY, srcArray=array, dstMemoryType=self._DEVICE,
                              dstDevice=device_pointer(out), dstPitch=row, WidthInBytes=row, Height=h)
-            self.driver.call_current("cuMemcpy2DAsync_v2", ctypes.byref(copy), self.driver.stream)
+            call("cuMemcpy2DAsync_v2", ctypes.byref(copy), stream)
         return out
 
-
-class _SharedBuffer(_Shared):
-    """A compute pass's target buffer (``compute.ComputeTarget``), copied into a Dr.Jit array per
-    frame once the stream has seen the pass's serial number after the visibility buffer."""
-
-    _WAIT_AT_LEAST = 0x0  # CU_STREAM_WAIT_VALUE_GEQ: a later pass's number, too, ends the wait (none hangs)
-
-    def __init__(self, buffer: moderngl.Buffer, driver: _Driver):
-        super().__init__(driver, "cuGraphicsGLRegisterBuffer", buffer.glo)
-
-    def copy(self, target) -> mi.UInt32:
-        """Map (unless still mapped), wait on the GPU for ``target.serial``, then copy, all on
-        Dr.Jit's stream: nothing waits on the host; the buffer stays mapped until :meth:`release`."""
-        pixels = target.width * target.height
-        out = dr.empty(mi.UInt32, pixels)
-        dr.eval(out)
-        pointer, size = ctypes.c_uint64(), ctypes.c_size_t()
-        call = self.driver.call_current
-        with self.driver.current():
-            self._map()
-            call("cuGraphicsResourceGetMappedPointer_v2", ctypes.byref(pointer), ctypes.byref(size), self.resource)
-            call("cuStreamWaitValue32_v2", self.driver.stream, ctypes.c_uint64(pointer.value + 4 * pixels),
-                 ctypes.c_uint32(target.serial), ctypes.c_uint(self._WAIT_AT_LEAST))
-            call("cuMemcpyDtoDAsync_v2", ctypes.c_uint64(device_pointer(out)), pointer, ctypes.c_size_t(4 * pixels),
-                 self.driver.stream)
-        return out
+    def release(self) -> None:
+        """Unmap, on Dr.Jit's stream: OpenGL's next commands on the texture wait for the copies
+        issued before."""
+        if self.mapped:
+            self.mapped = False
+            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), self.driver.stream)
 
 
 class Readback:
@@ -240,7 +191,7 @@ class Readback:
 
     def __init__(self):
         self.mode = "host"
-        self._shared: dict[tuple[str, int], _Shared] = {}  # by kind and GL name
+        self._images: dict[int, _SharedImage] = {}  # by GL texture name
         self._driver = None
         self._verified = False
         if not mi.variant().startswith("cuda"):
@@ -252,40 +203,33 @@ class Readback:
         except (OSError, RuntimeError) as exc:
             self.mode = f"host (no CUDA driver for interop: {exc})"
 
-    def ids(self, target, host_read) -> mi.UInt32:
-        """The triangle numbers of a raster pass's ``target`` (``visibility.RasterTarget``: the
-        draw's framebuffer or the compute pass's buffer); ``host_read(target)`` is the host path
+    def ids(self, fbo: moderngl.Framebuffer, host_read) -> mi.UInt32:
+        """The triangle-number target of ``fbo``; ``host_read(fbo)`` is the host path
         (``Rasterizer.read_ids``, which calls :meth:`release` before OpenGL reads)."""
         if self._driver is not None:
             try:
-                shared = self._interop(target)
+                shared = self._interop(fbo)
                 if not self._verified:  # the first copy must equal the host's, or interop is off
-                    copied = np.array(shared)  # before host_read, which hands the target back to OpenGL
-                    if not np.array_equal(copied, host_read(target)):
+                    copied = np.array(shared)  # before host_read, which hands the texture back to OpenGL
+                    if not np.array_equal(copied, host_read(fbo)):
                         raise RuntimeError("the interop copy differs from the host read-back")
                     self._verified = True
                 return shared
             except Exception as exc:  # noqa: BLE001 - any failure of interop falls back, and says why
                 self._driver, self.mode = None, f"host (interop failed: {type(exc).__name__}: {exc})"
-        return device_array(mi.UInt32, host_read(target))
+        return device_array(mi.UInt32, host_read(fbo))
 
     def release(self) -> None:
-        """Hand every target copied from back to OpenGL: call before OpenGL draws into or reads
+        """Hand every texture copied from back to OpenGL: call before OpenGL draws into or reads
         any of them (mapped to CUDA, OpenGL's access to them is undefined)."""
-        for shared in self._shared.values():
-            shared.release()
+        for image in self._images.values():
+            image.release()
 
-    def _interop(self, target) -> mi.UInt32:
-        if isinstance(target, moderngl.Framebuffer):
-            texture = target.color_attachments[0]
-            key = ("texture", texture.glo)
-            if key not in self._shared:
-                self._shared[key] = _SharedImage(texture, self._driver)
-            return self._shared[key].copy()
-        key = ("buffer", target.buffer.glo)
-        if key not in self._shared:
-            self._shared[key] = _SharedBuffer(target.buffer, self._driver)
-        return self._shared[key].copy(target)
+    def _interop(self, fbo: moderngl.Framebuffer) -> mi.UInt32:
+        texture = fbo.color_attachments[0]
+        if texture.glo not in self._images:
+            self._images[texture.glo] = _SharedImage(texture, self._driver)
+        return self._images[texture.glo].copy(mi.UInt32)
 
 
 class HostCopy:

@@ -27,15 +27,11 @@ import numpy as np
 from ..errors import HybridError
 from ..objects import object_of_triangles, scene_objects
 from .camera import RasterCamera
-from .compute import ComputeTarget, ComputeVisibility
+from .compute import ComputeVisibility
 from .context import depth_precision, gl_context, shader_source
 from .geometry import SceneGeometry, scene_geometry
 from .interop import Readback
 
-
-#: where a raster pass leaves its visibility buffer: the draw's framebuffer (an R32UI texture), or
-#: the compute pass's storage buffer
-RasterTarget = moderngl.Framebuffer | ComputeTarget
 
 #: how the visibility pass rasterizes (:meth:`Rasterizer.render`): ``draw`` (OpenGL's rasterizer),
 #: ``compute`` (compute shaders, :mod:`.compute`), or ``auto``: ``compute`` on a CUDA variant (the
@@ -133,16 +129,14 @@ class Rasterizer:
         return self._targets[key]
 
     def render(self, camera: RasterCamera, offset: tuple[float, float] = (0.5, 0.5),
-               method: str = "auto", slot: int = 0) -> RasterTarget:
+               method: str = "auto") -> moderngl.Framebuffer:
         """The raster pass alone: the scene's visibility buffer in the camera's target (left on the
-        GPU), by ``method`` (:data:`RASTER_METHODS`). ``slot``: the compute pass's target buffer (a
-        frame's sample passes take one each, ``compute.ComputeVisibility.render``); the draw has one
-        target per film size."""
+        GPU), by ``method`` (:data:`RASTER_METHODS`)."""
         self.release()
         if resolve_method(method) == "compute":
             if self._compute is None:
                 self._compute = ComputeVisibility(self.ctx, self.vertices, self.faces, len(self.geometry.faces))
-            return self._compute.render(camera, offset, slot)
+            return self._compute.render(camera, offset, self.target(camera.width, camera.height))
         w, h = camera.width, camera.height
         fbo = self.target(w, h)
         fbo.use()
@@ -170,20 +164,18 @@ class Rasterizer:
         eye's plane) and by work groups (medium); the rest were small (read from the GPU)."""
         return self._compute.tiers() if self._compute is not None else (0, 0)
 
-    def read_ids(self, target: RasterTarget) -> np.ndarray:
+    def read_ids(self, fbo: moderngl.Framebuffer) -> np.ndarray:
         """The target of :meth:`render` on the host: per pixel (row-major, row 0 at the top) the
         global triangle number + 1, 0 for the background."""
         self.release()
-        if isinstance(target, ComputeTarget):
-            return target.read()
-        return np.frombuffer(target.read(attachment=0, components=1, dtype="u4"), dtype=np.uint32)
+        return np.frombuffer(fbo.read(attachment=0, components=1, dtype="u4"), dtype=np.uint32)
 
-    def device_ids(self, target: RasterTarget) -> mi.UInt32:
+    def device_ids(self, fbo: moderngl.Framebuffer) -> mi.UInt32:
         """The target of :meth:`render` as a Dr.Jit array (as :meth:`read_ids` lays it out), without
         crossing the host where CUDA–OpenGL interop works (``interop.Readback``)."""
         if self._readback is None:
             self._readback = Readback()
-        return self._readback.ids(target, self.read_ids)
+        return self._readback.ids(fbo, self.read_ids)
 
     def release(self) -> None:
         """The targets back from CUDA (``interop.Readback.release``): before OpenGL touches them,

@@ -5,10 +5,7 @@
 #endif
 // Visibility pass in compute shaders (raster/compute.py): the visibility buffer of the draw
 // (visibility.vert/.frag), the global number of the frontmost triangle + 1 per pixel, without the
-// GPU's fixed-function rasterizer or its render targets. It is left in a storage buffer (`target`,
-// row-major, row 0 at the top), followed by one word: the pass's `serial` number, written by a last
-// one-invocation stage once every other stage's writes are done, so that CUDA can wait for it on
-// the GPU (raster/interop.py).
+// GPU's fixed-function rasterizer or its render targets.
 //
 // Triangles are rasterized in 2D homogeneous coordinates (Olano & Greer 1997): with a triangle's
 // clip-space vertices v_k = (x, y, w) as the columns of M, the rows r_k of adj(M) are its edge
@@ -34,7 +31,7 @@
 // plane) are listed with their edge functions and rasterized by tiles of TILE × TILE pixels: a
 // work group reads the list in batches, keeps the triangles whose edge functions do not reject
 // the whole tile, and each invocation keeps its pixels' nearest hit in registers, merged at the
-// end with the atomics' and stored into the target.
+// end with the atomics' and stored into the target image.
 //
 // Stages (uniform `stage`), in the order compute.py runs them:
 //   0 CLEAR: per pixel: clear the atomics' depth and number, and the lists' lengths
@@ -44,7 +41,6 @@
 //   4 SMALL_NUMBERS: per triangle: a small one's number where its depth won (not run with ONE_PASS)
 //   5 MEDIUM_NUMBERS: per medium triangle: its number where its depth won (not run with ONE_PASS)
 //   6 TILES: per tile: the large triangles, the merge, the target
-//   7 DONE: one invocation: the pass's serial number after the target
 layout(local_size_x = 256) in;
 
 struct Listed {  // a listed triangle: its edge functions with the vertices' clip z, det(M), number
@@ -63,17 +59,15 @@ layout(std430, binding = 3) buffer Ids { uint ids[]; };
 layout(std430, binding = 4) buffer Counts { uint listed; uint medium; uint medium_groups[3]; } counts;  // the groups at byte 8
 layout(std430, binding = 5) buffer List { Listed listed[]; };
 layout(std430, binding = 6) buffer Medium { uint medium[]; };
-layout(std430, binding = 7) buffer Target { uint target[]; };  // per pixel, then the serial number
+layout(r32ui, binding = 0) writeonly uniform uimage2D target;
 
 uniform mat4 world_to_clip;
 uniform vec3 origin;
 uniform ivec2 size;
 uniform uint triangles;
 uniform int stage;
-uniform uint serial;
 
-const int CLEAR = 0, SMALL_DEPTH = 1, MEDIUM_GROUPS = 2, MEDIUM_DEPTH = 3, SMALL_NUMBERS = 4, MEDIUM_NUMBERS = 5, TILES = 6,
-          DONE = 7;
+const int CLEAR = 0, SMALL_DEPTH = 1, MEDIUM_GROUPS = 2, MEDIUM_DEPTH = 3, SMALL_NUMBERS = 4, MEDIUM_NUMBERS = 5, TILES = 6;
 const int SMALL_PIXELS = 64;
 const int MEDIUM_PIXELS = 4096;
 const int TILE = 32;  // pixels per tile side: 256 invocations, 4 pixels each
@@ -275,7 +269,7 @@ void tile() {
         uint id = ids[pixel];
 #endif
         if (best_id[row] != 0u && (id == 0u || best[row] > own || (best[row] == own && best_id[row] > id))) id = best_id[row];
-        target[pixel] = id;
+        imageStore(target, p, uvec4(id));
     }
 }
 
@@ -296,8 +290,6 @@ void main() {
 #endif
         }
         if (n == 0u) counts.listed = counts.medium = 0u;
-    } else if (stage == DONE) {
-        if (n == 0u) target[uint(size.x * size.y)] = serial;
     } else if (stage == MEDIUM_GROUPS) {
         if (n == 0u) counts.medium_groups = uint[3](min(counts.medium, MAX_GROUPS), (counts.medium + MAX_GROUPS - 1u) / MAX_GROUPS, 1u);
     } else if (stage == MEDIUM_DEPTH || stage == MEDIUM_NUMBERS) {
