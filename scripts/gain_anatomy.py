@@ -23,10 +23,8 @@ of each side, and each side's device time per stage.
 from __future__ import annotations
 
 import statistics
-import subprocess
-import sys
 
-from raster_cull_probe import parser  # scripts/ is on sys.path when a script runs
+from raster_cull_probe import each_scene_alone, parser  # scripts/ is on sys.path when a script runs
 
 SIDES = ("rt", "hybrid", "no-interop", "no-raster")
 STAGES = ("raster", "gl", "lighting", "trace", "compose", "denoise", "issue")
@@ -38,12 +36,7 @@ def main() -> None:
     import numpy as np
 
     args = parser(__doc__).parse_args()
-    if len(args.scenes) > 1:  # one process per scene (refine_ab.py says why)
-        options = ["--variant", args.variant, "--repeats", str(args.repeats), *(f"-D{d}" for d in args.defines)]
-        for k, spec in enumerate(args.scenes):
-            table = subprocess.run([sys.executable, __file__, spec, *options], check=True, stdout=subprocess.PIPE,
-                                   text=True).stdout.splitlines()
-            print("\n".join(table if k == 0 else table[HEADER:]), flush=True)
+    if each_scene_alone(__file__, args, [], HEADER):
         return
     mi.set_variant(args.variant)
     import drjit as dr
@@ -66,7 +59,7 @@ def main() -> None:
             vars(raster).pop(attribute, None)
         if side in ("no-interop", "no-raster"):
             if side == "no-raster":
-                raster.render = lambda camera, offset=(0.5, 0.5), method="auto", slot=0: "no target"
+                raster.render = lambda camera, offset=(0.5, 0.5), method="auto": "no target"
             raster.device_ids = lambda target: cached["ids"]
 
     stand_in("hybrid")

@@ -8,10 +8,13 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import subprocess
+import sys
 
 
 def parser(doc: str) -> argparse.ArgumentParser:
-    """The probes' command line (this one's, ``raster_order_probe.py``'s, ``refine_ab.py``'s)."""
+    """The probes' command line (this one's, ``raster_order_probe.py``'s, ``refine_ab.py``'s,
+    ``gain_anatomy.py``'s)."""
     parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument("scenes", nargs="+")
     parser.add_argument("--variant", default="llvm_ad_rgb")
@@ -23,6 +26,22 @@ def parser(doc: str) -> argparse.ArgumentParser:
 def arguments(doc: str) -> argparse.Namespace:
     """The probes' parsed command line (:func:`parser`)."""
     return parser(doc).parse_args()
+
+
+def each_scene_alone(script: str, args: argparse.Namespace, options: list[str], header: int) -> bool:
+    """Where ``args`` names several scenes, run ``script`` (a probe printing a Markdown table) once
+    per scene in a process of its own, with ``options`` and ``args``' variant, repeats and defines,
+    and print the tables as one (their first ``header`` lines once); return whether it did. Several
+    scenes in one process made the later scenes' frames slower for every integrator alike on the
+    H200 (``refine_ab.py``)."""
+    if len(args.scenes) < 2:
+        return False
+    options = ["--variant", args.variant, "--repeats", str(args.repeats), *options, *(f"-D{d}" for d in args.defines)]
+    for k, spec in enumerate(args.scenes):
+        table = subprocess.run([sys.executable, script, spec, *options], check=True, stdout=subprocess.PIPE,
+                               text=True).stdout.splitlines()
+        print("\n".join(table if k == 0 else table[header:]), flush=True)
+    return True
 
 
 def rasterizers(args: argparse.Namespace):

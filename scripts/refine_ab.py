@@ -16,10 +16,8 @@ frames slower for all three integrators alike on the H200: the dining room's RT 
 from __future__ import annotations
 
 import statistics
-import subprocess
-import sys
 
-from raster_cull_probe import parser  # scripts/ is on sys.path when a script runs
+from raster_cull_probe import each_scene_alone, parser  # scripts/ is on sys.path when a script runs
 
 HEADER = 2  # the table's header lines, printed once
 
@@ -36,13 +34,7 @@ def main() -> None:
     p = parser(__doc__)
     p.add_argument("--compare", choices=list(COMPARISONS), default="refine")
     args = p.parse_args()
-    if len(args.scenes) > 1:  # one process per scene, this script's own command for each
-        options = ["--variant", args.variant, "--repeats", str(args.repeats), "--compare", args.compare]
-        options += [f"-D{d}" for d in args.defines]
-        for k, spec in enumerate(args.scenes):
-            table = subprocess.run([sys.executable, __file__, spec, *options], check=True, stdout=subprocess.PIPE,
-                                   text=True).stdout.splitlines()
-            print("\n".join(table if k == 0 else table[HEADER:]), flush=True)
+    if each_scene_alone(__file__, args, ["--compare", args.compare], HEADER):
         return
     mi.set_variant(args.variant)
     from hybrid_integrator.bench import frames_in_turn, load_bench_scene
