@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Stop 36's second GPU run: the interop probe (scripts/interop_probe.py) on the showcase and Sponza.
+# Stop 36's second GPU run, on dae1518: the first version of scripts/interop_probe.py (not kept; the
+# second is at 74aab01) on the showcase and Sponza.
 # Carry .device and .device_s (the two scenes' files: sponza-dabrovic and cbox from ../shared/scenes).
 source .device/prelude.sh
 ln -sfn ../plugins hybrid_integrator/plugins

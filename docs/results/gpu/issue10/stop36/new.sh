@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Stop 36's GPU run A, on the new code (the compute pass's target a storage buffer, CUDA waiting for
-# its serial number on the GPU): scripts/interop_probe.py on the showcase and Sponza, then
-# scripts/gain_anatomy.py on the five scenes (rt / hybrid / no-interop / no-raster in turn).
+# Stop 36's GPU run A, on "A0" (README.md: 74aab01's storage-buffer target and GPU-side wait, the
+# frame not yet reordered; scripts/interop_probe.py as at 74aab01): the interop probe on the
+# showcase and Sponza, then scripts/gain_anatomy.py on the five scenes (rt / hybrid / no-interop /
+# no-raster in turn).
 # After stop31/extras.sh 1 and 2 on the same warm machine; carry .device.
 source docs/results/gpu/issue10/stop31/env.sh
 T0=$SECONDS
