@@ -132,11 +132,12 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
 
 
 def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
-                   warmup: int = 3) -> dict[str, list[dict]]:
+                   warmup: int = 3, before=None) -> dict[str, list[dict]]:
     """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
     rendering ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for all in round k; the
-    order rotates from round to round, so that none always follows another). Returns, per side,
-    the ``times_ms`` of its measured frames."""
+    order rotates from round to round, so that none always follows another); ``before(name)``, if
+    given, is called before each of a side's frames (a probe's stand-ins). Returns, per side, the
+    ``times_ms`` of its measured frames."""
     from .api import _integrator
 
     integrators = {name: _integrator(dict(props)) for name, props in sides.items()}
@@ -144,6 +145,8 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     order = list(sides)
     for k in range(warmup + frames):
         for name in order:
+            if before is not None:
+                before(name)
             result = integrators[name].render_result(scene, seed=seed + k, spp=spp, layers=False)
             if k >= warmup:
                 times[name].append(result.stats.times_ms)

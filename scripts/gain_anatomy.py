@@ -4,7 +4,7 @@ The hybrid and the RT baseline trace the same rays; they differ in their primary
 hybrid's is an OpenGL pass (host issue, GPU time), its interop copy (the map orders CUDA's stream
 after OpenGL's work) and a kernel that resolves the raster's hits; the baseline's, a kernel that
 traces camera rays. To see which part of the hybrid's costs the frame, four integrators render
-in turn (``bench.frames_in_turn``'s order: each round rotates them), every frame at the pixel
+in turn (``bench.frames_in_turn``, which rotates them from round to round), every frame at the pixel
 centres (one sub-pixel offset, so that one visibility buffer serves every frame):
 
 - ``rt``: the RT baseline (``primary="raytrace"``);
@@ -43,12 +43,11 @@ def main() -> None:
 
     import hybrid_integrator as hi
     from hybrid_integrator import pipeline
-    from hybrid_integrator.bench import load_bench_scene
+    from hybrid_integrator.bench import frames_in_turn, load_bench_scene
     from hybrid_integrator.raster.camera import RasterCamera
 
     pipeline.subpixel_offsets = lambda spp, seed: [(0.5, 0.5)] * spp
     scene, name = load_bench_scene(args.scenes[0], dict(d.split("=", 1) for d in args.defines))
-    integrators = {side: hi.api._integrator({"primary": "raytrace"} if side == "rt" else {}) for side in SIDES}
     raster = hi.api.renderer(scene).raster
     render = raster.render
     cached = {}
@@ -62,22 +61,11 @@ def main() -> None:
                 raster.render = lambda camera, offset=(0.5, 0.5), method="auto": "no target"
             raster.device_ids = lambda target: cached["ids"]
 
-    stand_in("hybrid")
-    integrators["hybrid"].render_result(scene, seed=0, spp=1, layers=False)
     camera = RasterCamera.from_sensor(scene.sensors()[0])
     cached["ids"] = mi.UInt32(raster.read_ids(render(camera, (0.5, 0.5))))
     dr.eval(cached["ids"])
-
-    times = {side: [] for side in SIDES}
-    order = list(SIDES)
-    for k in range(3 + args.repeats):
-        for side in order:
-            stand_in(side)
-            result = integrators[side].render_result(scene, seed=k, spp=1, layers=False)
-            if k >= 3:
-                times[side].append(result.stats.times_ms)
-        order = order[1:] + order[:1]
-    stand_in("hybrid")
+    sides = {side: {"primary": "raytrace"} if side == "rt" else {} for side in SIDES}
+    times = frames_in_turn(scene, sides, args.repeats, 1, 0, before=stand_in)
     total = {side: np.array([t["total"] for t in times[side]]) for side in SIDES}
     print(f"| scene | {' | '.join(f'{s} ms' for s in SIDES)} | {' | '.join(f'Gain, {s}' for s in SIDES[1:])} "
           f"| {' | '.join(f'{s}: ' + ' / '.join(SIDES) for s in STAGES)} |")
