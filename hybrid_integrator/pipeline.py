@@ -68,7 +68,11 @@ PRIMARY_SOURCES = ("raster", "raytrace")
 REFINE_STAGES = ("auto", "primary", "trace")
 STAGES = ("raster", "lighting", "select", "trace", "compose", "temporal", "denoise")
 SHADOW_ONLY = ("shadow",)  # the effect set of a shadow tier (heuristic.candidates)
-HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "timing")
+HOST_PHASES = ("setup", "select", "raster", "replay", "develop", "post", "readback", "ahead", "timing")
+#: ``raster_ahead``: whether a frame draws the next frame's visibility buffer at its end
+#: (:meth:`HybridRenderer._draw_ahead`): ``auto``, where the buffer reaches Dr.Jit through
+#: CUDA–OpenGL interop (a CUDA variant); ``on``; ``off``
+RASTER_AHEAD = ("auto", "on", "off")
 
 
 def resolve_refine(refine: str, traces: bool = True, variant: str | None = None) -> str:
@@ -114,6 +118,7 @@ class HybridSettings:
     secondary_spp: int = 1
     learn_ambient: bool = True
     shadow_tier: bool = True
+    raster_ahead: str = "auto"
 
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
@@ -134,6 +139,8 @@ class HybridSettings:
         object.__setattr__(self, "effects", parse_effects(self.effects))
         if self.denoise_quality not in QUALITIES:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
+        if self.raster_ahead not in RASTER_AHEAD:
+            raise HybridError(f"raster_ahead='{self.raster_ahead}' is not one of {list(RASTER_AHEAD)}")
         if self.relevance not in RELEVANCE:
             raise HybridError(f"relevance='{self.relevance}' is not one of {list(RELEVANCE)}")
         if self.selection not in SELECTORS:
@@ -172,6 +179,11 @@ class FrameStats:
     edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
+    #: sample passes whose visibility buffer the frame before drew (``raster_ahead``), and passes
+    #: it drew for this frame that this frame could not use (another camera, sub-pixel offset or
+    #: set-up, or another pass drew into the target since): drawn for nothing
+    raster_ahead: int = 0
+    raster_discarded: int = 0
     raster_method: str = ""  # the raster pass that made it: draw or compute (raster/visibility.py)
     fallback: str = ""  # what the frame did instead of the hybrid pipeline, and why ("": nothing)
     #: what the frozen device pass took for the scene (frozen.py): ``variables``, the snapshot of
@@ -184,7 +196,8 @@ class FrameStats:
     #: host time (ms) by phase: frame set-up, selection, the raster pass and its interop copy, the
     #: device pass (a frozen replay: Dr.Jit walks its inputs, the scene's variables among them,
     #: then launches), film development, post-processing, the statistics and what the next frame
-    #: learns from them (``readback``: on the GPU while it develops and denoises the frame), and ``timing``:
+    #: learns from them (``readback``: on the GPU while it develops and denoises the frame), the
+    #: next frame's raster pass issued behind this frame's work (``ahead``), and ``timing``:
     #: reading Dr.Jit's kernel history for the stage times (profiling, not counted in ``total``)
     host_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(HOST_PHASES, 0.0))
     candidates_visible: int = 0
@@ -575,6 +588,19 @@ def _box_filter(variant: str | None = None) -> mi.ReconstructionFilter:
 
 
 @dataclass
+class DrawnAhead:
+    """The next frame's visibility buffer, drawn at the end of a frame for the set-up, camera and
+    sub-pixel offset it expects that frame to have (:meth:`HybridRenderer._draw_ahead`)."""
+
+    setup: tuple
+    camera: RasterCamera
+    offset: tuple[float, float]
+    fbo: object  # the rasterizer's target (moderngl.Framebuffer)
+    query: object  # the GL timer query of its draw
+    draws: int  # ``Rasterizer.draws`` after it: another pass since has drawn over it
+
+
+@dataclass
 class _Frame:
     """One frame's fixed parts: the sensor, its camera, the settings of its passes, its statistics."""
 
@@ -590,6 +616,7 @@ class _Frame:
     indirect: mi.Float | None = None  # the learnt indirect table of its shadow tiers
     tiers: np.ndarray | None = None  # per object: it has a shadow tier (heuristic.candidates)
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
+    queries: list = field(default_factory=list)  # the GL timer queries of its passes' draws
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
 
@@ -628,7 +655,9 @@ class HybridRenderer:
         # settings (a pass without the denoiser's guides for one with them)
         self.frozen = FrozenScene(scene)
         self._frozen: dict[PassStatic, FrozenFunction] = {}
-        self._gl_queries: list = []
+        self._gl_queries: list = []  # GL timer queries no pass holds
+        self._ahead: DrawnAhead | None = None  # the next frame's first pass, drawn by the last frame
+        self._cameras: dict[tuple, RasterCamera] = {}  # per set-up, the last frame's camera
         self._setups: dict = {}
         self._denoisers: dict[str, Denoiser] = {}
         self._accumulators: dict[bool, Accumulator] = {}
@@ -687,6 +716,9 @@ class HybridRenderer:
             # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
             # frame's work) now, where the host waits for the GPU, not in the next frame's raster pass
             self.raster.release()
+            # then the next frame's raster pass, which OpenGL runs once this frame's work is done
+            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0])
+            clock.lap("ahead")
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
             self._account_times(settings, frame, state, learnt, clock)
@@ -827,21 +859,73 @@ class HybridRenderer:
     def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock",
                     timed: bool = True) -> mi.UInt32:
         """Stage 1 of one sample pass: the visibility buffer drawn by OpenGL, as a Dr.Jit array
-        (camera rays need none: zeros). ``timed``: the draw's GL time is the frame's (a timer
-        query per sample pass; a probe's draw is not timed)."""
+        (camera rays need none: zeros), or drawn already by the frame before (:meth:`_draw_ahead`).
+        ``timed``: the draw's GL time is the frame's (a timer query per sample pass; a probe's
+        draw is not timed, nor drawn ahead)."""
         camera = frame.camera
         if settings.primary == "raster":
-            if timed and len(self._gl_queries) <= sample:
-                self._gl_queries.append(self.raster.ctx.query(time=True))
-            # the draw alone: the query's end waits for nothing of CUDA's
-            with self._gl_queries[sample] if timed else contextlib.nullcontext():
-                fbo = self.raster.render(camera, offset, settings.raster)
-            gl_flush()  # the draw and the query's end to the GPU now
+            fbo = self._drawn_ahead(frame, offset) if timed else None
+            if fbo is None:
+                fbo = self._draw(settings, camera, offset, frame.queries if timed else None)
             triangle_id = self.raster.device_ids(fbo)
         else:
             triangle_id = dr.zeros(mi.UInt32, camera.width * camera.height)
         clock.lap("raster")
         return triangle_id
+
+    def _draw(self, settings: HybridSettings, camera: RasterCamera, offset, queries: list | None):
+        """OpenGL's raster pass, handed to the GPU, timed by a GL timer query appended to
+        ``queries`` (None: not timed); returns its target."""
+        query = None
+        if queries is not None:
+            query = self._gl_queries.pop() if self._gl_queries else self.raster.ctx.query(time=True)
+            queries.append(query)
+        with query or contextlib.nullcontext():  # the draw alone: the query's end waits for nothing of CUDA's
+            fbo = self.raster.render(camera, offset, settings.raster)
+        gl_flush()  # the draw and the query's end to the GPU now
+        return fbo
+
+    def _draw_ahead(self, settings: HybridSettings, frame: _Frame, offset) -> None:
+        """The next frame's raster pass (its first sample pass, at the next seed's first sub-pixel
+        ``offset``), issued at the end of this frame where the camera stands still (the same
+        camera as the frame before, for the same set-up) and ``raster_ahead`` allows it.
+
+        It is issued after the frame's targets are handed back to OpenGL (``Rasterizer.release``:
+        on the GPU, interop's unmap on Dr.Jit's stream, which orders OpenGL's later work on the
+        target after all of this frame's CUDA work), so OpenGL runs it once the GPU is done with
+        this frame: the host issues it while the GPU still develops and denoises, and the next
+        frame starts from its interop copy, with OpenGL's host issue and the switch between the
+        two APIs' contexts behind it (docs/results, issue 10, stop 37). Stop 31 drew ahead while
+        the GPU traced, into another target, which OpenGL then ran in turns with the trace: slower.
+        A camera that moved since the last frame draws nothing ahead (a camera path would waste
+        every draw); a next frame that does not match discards it (``FrameStats.raster_discarded``)."""
+        still = self._cameras.get(frame.setup) is frame.camera
+        self._cameras[frame.setup] = frame.camera
+        on = settings.raster_ahead == "on" or (settings.raster_ahead == "auto"
+                                                and self.raster.readback == "cuda-gl-interop")
+        if settings.primary != "raster" or not on or not still:
+            return
+        if self._ahead is not None:  # drawn for a frame that did not come: its query back
+            self._gl_queries.append(self._ahead.query)
+        queries: list = []
+        fbo = self._draw(settings, frame.camera, offset, queries)
+        self._ahead = DrawnAhead(setup=frame.setup, camera=frame.camera, offset=tuple(offset), fbo=fbo,
+                                 query=queries[0], draws=self.raster.draws)
+
+    def _drawn_ahead(self, frame: _Frame, offset) -> object | None:
+        """The target drawn ahead for this frame's pass at ``offset`` (its query now the frame's),
+        or None; a buffer drawn ahead for another frame is discarded and counted."""
+        ahead, self._ahead = self._ahead, None
+        if ahead is None:
+            return None
+        if (ahead.setup == frame.setup and ahead.camera is frame.camera and ahead.offset == tuple(offset)
+                and ahead.draws == self.raster.draws):
+            frame.queries.append(ahead.query)
+            frame.stats.raster_ahead += 1
+            return ahead.fbo
+        self._gl_queries.append(ahead.query)
+        frame.stats.raster_discarded += 1
+        return None
 
     def _device(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
                 triangle_id: mi.UInt32, clock: "_HostClock") -> PassOutput:
@@ -962,7 +1046,8 @@ class HybridRenderer:
         if frame.denoiser is not None:
             stats.times_ms["denoise"] = frame.denoiser.elapsed_ms()
         if settings.primary == "raster":
-            stats.times_ms["gl"] = sum(gl_elapsed_ms(q) for q in self._gl_queries[:frame.stats.spp])
+            stats.times_ms["gl"] = sum(gl_elapsed_ms(q) for q in frame.queries)
+            self._gl_queries.extend(frame.queries)
             if math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
                 stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")

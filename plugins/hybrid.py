@@ -24,6 +24,7 @@
         <integer name="secondary_spp" value="1"/>      <!-- paths traced from each primary hit -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
         <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
+        <string name="raster_ahead" value="auto"/>     <!-- or "on", "off": next frame's raster pass -->
     </integrator>
 
 Properties
@@ -112,6 +113,13 @@ Properties
                  whole, at a fraction of the cost; chosen like an object, by the error it was
                  measured to remove (``hybrid_integrator/heuristic.py``; default on;
                  ``stats.shadow_only`` lists the objects so traced).
+``raster_ahead`` where the camera stands still (the same as in the frame before), a frame issues the
+                 next frame's raster pass at its end, behind its own work: OpenGL runs it once the
+                 GPU is done with the frame, and the next frame starts from a finished visibility
+                 buffer (``stats.raster_ahead``; one that does not match, such as after a camera
+                 move, is drawn again: ``stats.raster_discarded``). ``auto`` (the default): where
+                 the buffer reaches Dr.Jit through CUDA–OpenGL interop, whose unmap orders
+                 OpenGL's draw after the frame's CUDA work; ``on``; ``off``.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the

@@ -95,7 +95,7 @@ def test_frame_statistics_come_from_one_synchronization():
     t = frame.stats.times_ms
     assert all(t[k] >= 0 for k in t) and t["trace"] > 0 and t["lighting"] > 0
     assert t["total"] >= t["issue"] > 0
-    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "readback", "timing"}
+    assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "readback", "ahead", "timing"}
     assert frame.stats.host_ms["replay"] > 0
 
 
@@ -135,6 +135,43 @@ def test_next_seeds_offsets_made_ahead_are_the_same_frame():
     # bit-reproducible within a process either (docs/results/cpu/reproducibility); other
     # offsets move every edge pixel
     assert np.abs(ahead - fresh).max() <= 1e-6 and ahead.mean() > 0
+
+
+def test_a_still_camera_draws_the_next_frame_ahead():
+    """``raster_ahead="on"`` (``auto`` turns it on where interop orders OpenGL after CUDA: the
+    GPU): once the camera has stood still for a frame, each frame draws the next one's visibility
+    buffer at its end, and the next frame uses it, with the same image as a frame that draws its
+    own. A buffer drawn for a frame that does not come (the camera moved, or another pass drew
+    into the target since) is discarded and counted, and the frame draws its own."""
+    from hybrid_integrator.api import renderer
+    from hybrid_integrator.raster.camera import RasterCamera
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=64, resy=48)  # its own: the test moves its camera
+    props = dict(spp=1, denoise=False, learn_ambient=False)
+
+    def frames(seeds, ahead):
+        results = [hi.render(scene, seed=s, raster_ahead=ahead, **props) for s in seeds]
+        return [np.array(r.image) for r in results], [(r.stats.raster_ahead, r.stats.raster_discarded) for r in results]
+
+    own, counts = frames(range(4), "off")
+    assert counts == [(0, 0)] * 4
+    drawn, counts = frames(range(4), "on")
+    assert counts == [(0, 0), (0, 0), (1, 0), (1, 0)]  # the first frame's camera is new: nothing drawn ahead
+    # equal but for the last bits (the CPU backend's atomic sums: test above)
+    assert all(np.abs(a - b).max() <= 1e-6 for a, b in zip(own, drawn)) and own[3].mean() > 0
+    # a frame of another set-up comes instead: it discards the buffer (and draws nothing ahead)
+    assert frames([4], "off")[1] == [(0, 1)]
+    assert frames([5, 6], "on")[1] == [(0, 0), (1, 0)]
+    raster = renderer(scene).raster  # another pass draws into the target: the buffer drawn ahead is stale
+    raster.render(RasterCamera.from_sensor(scene.sensors()[0]), (0.25, 0.75))
+    assert frames([7], "on")[1] == [(0, 1)]
+    params = mi.traverse(scene.sensors()[0])
+    params["to_world"] = mi.Transform4f().translate([0.05, 0.0, 0.0]) @ params["to_world"]
+    params.update()
+    moved, counts = frames([8, 9, 10], "on")
+    # the camera moved: seed 8 discards what seed 7 drew; its camera is new, so it draws nothing ahead
+    assert counts == [(0, 1), (0, 0), (1, 0)]
+    assert np.abs(moved[2] - frames([10], "off")[0][0]).max() <= 1e-6
 
 
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05), (2**22 + 3, 0.5)])

@@ -113,6 +113,9 @@ class Rasterizer:
         self._depth = depth_precision()
         self._targets: dict[tuple[int, int], moderngl.Framebuffer] = {}
         self._readback: Readback | None = None
+        #: passes drawn so far: a buffer drawn ahead for the next frame (``pipeline.py``) is that
+        #: frame's only while no other pass has drawn into the target since
+        self.draws = 0
         #: faces left out of the draw (``method="draw"`` only): None (every face, the default:
         #: meshes may be open), or moderngl's "front" / "back" (``scripts/raster_cull_probe.py``
         #: measures what that saves)
@@ -133,6 +136,7 @@ class Rasterizer:
         """The raster pass alone: the scene's visibility buffer in the camera's target (left on the
         GPU), by ``method`` (:data:`RASTER_METHODS`)."""
         self.release()
+        self.draws += 1
         if resolve_method(method) == "compute":
             if self._compute is None:
                 self._compute = ComputeVisibility(self.ctx, self.vertices, self.faces, len(self.geometry.faces))
