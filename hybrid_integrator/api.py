@@ -121,15 +121,18 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
     params = mi.traverse(sensor)
     original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     results = []
+    matrices = [transform_matrix(camera) for camera in cameras]
     try:
         current = None
-        for frame, camera in enumerate(cameras):
-            matrix = transform_matrix(camera)
+        for frame, matrix in enumerate(matrices):
             if current is None or not np.array_equal(matrix, current):  # a still camera needs no update
                 params["to_world"] = mi.ScalarTransform4f(matrix)
                 params.update()
                 current = matrix
-            results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp, layers=layers))
+            # the next pose: this frame draws the next one's raster pass ahead (``raster_ahead``)
+            upcoming = mi.ScalarTransform4f(matrices[frame + 1]) if frame + 1 < len(matrices) else None
+            results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp, layers=layers,
+                                                    next_camera=upcoming))
     finally:
         params["to_world"] = original
         params.update()

@@ -667,9 +667,11 @@ class HybridRenderer:
         self._next_offsets: dict[tuple[int, int], list[tuple[float, float]]] = {}
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
-               aovs=(), state: FrameState | None = None, layers: bool = True) -> HybridResult:
+               aovs=(), state: FrameState | None = None, layers: bool = True, next_camera=None) -> HybridResult:
         """One frame (paper Fig. 4). ``state`` carries the previous frame's selection, coverage and
-        the cost model into this one (a fresh state: the first frame of a sequence)."""
+        the cost model into this one (a fresh state: the first frame of a sequence).
+        ``next_camera``: the sensor's ``to_world`` in the next frame, where it is known (a camera
+        path): the frame draws that frame's raster pass ahead (:meth:`_draw_ahead`)."""
         state = state if state is not None else FrameState()
         if int(spp) < 0:
             raise HybridError(f"spp={spp} is impossible: give a number of samples per pixel >= 1 (0: the scene's sampler's)")
@@ -717,7 +719,7 @@ class HybridRenderer:
             # frame's work) now, where the host waits for the GPU, not in the next frame's raster pass
             self.raster.release()
             # then the next frame's raster pass, which OpenGL runs once this frame's work is done
-            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0])
+            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_camera)
             clock.lap("ahead")
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
@@ -885,10 +887,12 @@ class HybridRenderer:
         gl_flush()  # the draw and the query's end to the GPU now
         return fbo
 
-    def _draw_ahead(self, settings: HybridSettings, frame: _Frame, offset) -> None:
+    def _draw_ahead(self, settings: HybridSettings, frame: _Frame, offset, next_camera=None) -> None:
         """The next frame's raster pass (its first sample pass, at the next seed's first sub-pixel
-        ``offset``), issued at the end of this frame where the camera stands still (the same
-        camera as the frame before, for the same set-up) and ``raster_ahead`` allows it.
+        ``offset``), issued at the end of this frame where ``raster_ahead`` allows it and the next
+        frame's camera can be foreseen: ``next_camera`` (its ``to_world``, given by a camera path:
+        ``api.render_sequence``), or this frame's where the camera stands still (the same camera
+        as the frame before, for the same set-up).
 
         It is issued after the frame's targets are handed back to OpenGL (``Rasterizer.release``:
         on the GPU, interop's unmap on Dr.Jit's stream, which orders OpenGL's later work on the
@@ -897,19 +901,21 @@ class HybridRenderer:
         frame starts from its interop copy, with OpenGL's host issue and the switch between the
         two APIs' contexts behind it (docs/results, issue 10, stop 37). Stop 31 drew ahead while
         the GPU traced, into another target, which OpenGL then ran in turns with the trace: slower.
-        A camera that moved since the last frame draws nothing ahead (a camera path would waste
-        every draw); a next frame that does not match discards it (``FrameStats.raster_discarded``)."""
+        Without ``next_camera``, a camera that moved since the last frame draws nothing ahead (the
+        next one would likely move again); a next frame that does not match discards what was
+        drawn (``FrameStats.raster_discarded``)."""
         still = self._cameras.get(frame.setup) is frame.camera
         self._cameras[frame.setup] = frame.camera
         on = settings.raster_ahead == "on" or (settings.raster_ahead == "auto"
                                                 and self.raster.readback == "cuda-gl-interop")
-        if settings.primary != "raster" or not on or not still:
+        if settings.primary != "raster" or not on or not (still or next_camera is not None):
             return
+        camera = frame.camera if next_camera is None else frame.camera.at(next_camera)
         if self._ahead is not None:  # drawn for a frame that did not come: its query back
             self._gl_queries.append(self._ahead.query)
         queries: list = []
-        fbo = self._draw(settings, frame.camera, offset, queries)
-        self._ahead = DrawnAhead(setup=frame.setup, camera=frame.camera, offset=tuple(offset), fbo=fbo,
+        fbo = self._draw(settings, camera, offset, queries)
+        self._ahead = DrawnAhead(setup=frame.setup, camera=camera, offset=tuple(offset), fbo=fbo,
                                  query=queries[0], draws=self.raster.draws)
 
     def _drawn_ahead(self, frame: _Frame, offset) -> object | None:
@@ -918,8 +924,8 @@ class HybridRenderer:
         ahead, self._ahead = self._ahead, None
         if ahead is None:
             return None
-        if (ahead.setup == frame.setup and ahead.camera is frame.camera and ahead.offset == tuple(offset)
-                and ahead.draws == self.raster.draws):
+        if (ahead.setup == frame.setup and ahead.offset == tuple(offset) and ahead.draws == self.raster.draws
+                and ahead.camera.draws_as(frame.camera, offset)):
             frame.queries.append(ahead.query)
             frame.stats.raster_ahead += 1
             return ahead.fbo

@@ -154,16 +154,18 @@ class HybridIntegrator(mi.SamplingIntegrator):
         self._params = {name: mi.Float(getattr(self.settings, name)) for name in ("blend", "budget_ms", "importance")}
 
     def render_result(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,
-                      aovs=(), layers: bool = True) -> HybridResult:
+                      aovs=(), layers: bool = True, next_camera=None) -> HybridResult:
         """Render a frame and return image, layers (unless ``layers=False``) and statistics
-        (``hi.render`` calls this)."""
+        (``hi.render`` calls this); ``next_camera``: the sensor's ``to_world`` in the next frame,
+        where known (``hi.render_sequence`` gives it: ``raster_ahead``)."""
         from hybrid_integrator.api import renderer
 
         if not scene.shapes():  # nothing to rasterize or trace: what Mitsuba shows is the background
             self.last_result = _background(scene, self.settings, sensor, seed, spp)
         else:
             self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed),
-                                                      aovs=aovs, state=self.state, layers=layers)
+                                                      aovs=aovs, state=self.state, layers=layers,
+                                                      next_camera=next_camera)
         return self.last_result
 
     def render(self, scene: mi.Scene, sensor: int | mi.Sensor = 0, seed: int = 0, spp: int = 0,

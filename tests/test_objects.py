@@ -174,6 +174,26 @@ def test_a_still_camera_draws_the_next_frame_ahead():
     assert np.abs(moved[2] - frames([10], "off")[0][0]).max() <= 1e-6
 
 
+def test_a_camera_path_draws_each_next_frame_ahead():
+    """On a camera path (``render_sequence`` gives each frame the next pose), every frame but the
+    first starts from the raster pass the frame before drew for its pose, with the same image as
+    frames that draw their own; the sensor's pose is restored after."""
+    from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=64, resy=48)
+    start = transform_matrix(sensor_to_world(scene.sensors()[0]))
+    eye, target = start[:3, 3], start[:3, 3] + start[:3, 2]
+    cameras = hi.camera_path([(eye, target), (eye + [0.1, 0.05, 0.0], target)], 4)
+    props = dict(spp=1, denoise=False, learn_ambient=False, layers=False)
+    own = hi.render_sequence(scene, cameras, raster_ahead="off", **props)
+    drawn = hi.render_sequence(scene, cameras, raster_ahead="on", **props)
+    assert [(r.stats.raster_ahead, r.stats.raster_discarded) for r in drawn] == [(0, 0)] + [(1, 0)] * 3
+    images = [(np.array(a.image), np.array(b.image)) for a, b in zip(own, drawn)]
+    assert all(np.abs(a - b).max() <= 1e-6 for a, b in images)  # as the test above
+    assert np.abs(images[0][0] - images[3][0]).max() > 0.05  # the camera did move
+    assert np.array_equal(transform_matrix(sensor_to_world(scene.sensors()[0])), start)
+
+
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05), (2**22 + 3, 0.5)])
 @pytest.mark.parametrize("groups", [1, 2])
 def test_compaction_puts_the_first_lanes_first(n, density, groups):

@@ -17,7 +17,7 @@ axis convention to ``x_fov`` when it built the sensor.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import drjit as dr
 import mitsuba as mi
@@ -65,6 +65,9 @@ class RasterCamera:
     #: an ``orthographic`` sensor: clip w is 1, so depth comes from the camera-space z row below
     orthographic: bool = False
     depth_row: np.ndarray | None = None  # world → camera-space z (a row of the inverse to_world)
+    #: camera → clip (the intrinsics: the sensor's projection, then sample space → NDC), which
+    #: :meth:`at` places at another pose
+    projection: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     @classmethod
     def from_sensor(cls, sensor: mi.Sensor) -> "RasterCamera":
@@ -122,13 +125,30 @@ class RasterCamera:
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
                                   [0.0, 0.0, 0.0, 1.0]])
-        world_to_camera = np.linalg.inv(camera_to_world)
-        world_to_clip = sample_to_ndc @ camera_to_sample @ world_to_camera
-        camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=world_to_clip,
-                     eye=camera_to_world[:3, 3].copy(), near_clip=float(near), far_clip=float(far),
-                     orthographic=orthographic, depth_row=world_to_camera[2].copy())
+        camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=np.eye(4), eye=np.zeros(3),
+                     near_clip=float(near), far_clip=float(far), orthographic=orthographic,
+                     projection=sample_to_ndc @ camera_to_sample).at(camera_to_world)
         kept.key, kept.values, kept.camera = key, values, camera
         return camera
+
+    def at(self, camera_to_world) -> "RasterCamera":
+        """The same camera (film, projection, clip planes) placed at ``camera_to_world`` (a 4×4
+        matrix or a Mitsuba transform: the sensor's ``to_world``), e.g. the next pose of a camera
+        path (``pipeline.HybridRenderer._draw_ahead``)."""
+        camera_to_world = transform_matrix(camera_to_world)
+        world_to_camera = np.linalg.inv(camera_to_world)
+        return replace(self, world_to_clip=self.projection @ world_to_camera, eye=camera_to_world[:3, 3].copy(),
+                       depth_row=world_to_camera[2].copy())
+
+    def draws_as(self, other: "RasterCamera", offset: tuple[float, float]) -> bool:
+        """Whether this camera's raster pass at ``offset`` is ``other``'s: the same film and the
+        same matrix and eye for the vertex shader (:meth:`relative_clip`)."""
+        if self is other:
+            return True
+        if (self.width, self.height) != (other.width, other.height):
+            return False
+        (clip, origin), (other_clip, other_origin) = self.relative_clip(offset), other.relative_clip(offset)
+        return np.array_equal(clip, other_clip) and np.array_equal(origin, other_origin)
 
     def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
         """world → clip for samples at sub-pixel position ``offset`` ∈ [0,1)² in every pixel, with
