@@ -54,6 +54,24 @@ def timed_in_turn(fns, repeats: int) -> list[tuple[float, float]]:
     return [(statistics.median(w), statistics.median(d)) for w, d in zip(wall, device)]
 
 
+def launches(fn, repeats: int) -> list[dict]:
+    """The launches of one call of ``fn()`` (Dr.Jit's kernel history, in order): their kind,
+    lanes and median device ms over ``repeats`` calls."""
+    import drjit as dr
+
+    runs = []
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        for _ in range(repeats):
+            dr.sync_thread()
+            dr.kernel_history_clear()
+            dr.eval(fn())
+            dr.sync_thread()
+            runs.append([(str(e["type"]).split(".")[-1], int(e.get("size", 0)), float(e.get("execution_time", 0.0)))
+                         for e in dr.kernel_history()])
+    return [{"type": kind, "lanes": lanes, "ms": statistics.median(r[k][2] for r in runs)}
+            for k, (kind, lanes, _) in enumerate(runs[-1])]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--variant", default="llvm_ad_rgb")
@@ -61,6 +79,8 @@ def main() -> None:
     parser.add_argument("--resx", type=int, default=320)
     parser.add_argument("--resy", type=int, default=180)
     parser.add_argument("--repeats", type=int, default=41)
+    parser.add_argument("--launches", action="store_true",
+                        help="also print each launch's device time per number of pixels (what grows with it)")
     parser.add_argument("-o", "--output", type=Path, required=True)
     args = parser.parse_args()
 
@@ -112,6 +132,12 @@ def main() -> None:
             wall, device = timed(lambda: frozen(hits.ray, fields, ids, masks[n], hits.object, seed), args.repeats)
             rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
         print(sweep, rows, flush=True)
+    if args.launches:
+        for row in rows:
+            row["launches"] = launches(lambda: frozen(hits.ray, fields, ids, masks[row["pixels"]], hits.object, seed),
+                                       args.repeats)
+            print(row["pixels"], "pixels:", ", ".join(f"{e['type']}[{e['lanes']}] {e['ms']:.3f}" for e in row["launches"]),
+                  flush=True)
     x = np.array([r["pixels"] for r in rows], dtype=np.float64)
     fits = {}
     for key in ("wall_ms", "device_ms"):
