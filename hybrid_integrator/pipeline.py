@@ -685,7 +685,7 @@ class HybridRenderer:
             # every pass's visibility buffer first (1): OpenGL draws while the host sets up and
             # plans the frame (a budget's selection: 0.3-0.4 ms on the H100's host), and OpenGL's and CUDA's work
             # take turns on the GPU, so a draw issued after a pass's device work would wait for all of it
-            ids = [self._visibility(settings, frame, sample, offset, clock) for sample, offset in enumerate(offsets)]
+            ids = [self._visibility(settings, frame, offset, clock) for offset in offsets]
             tables = [t if settings.learn_ambient else t[:0] for t in (state.ambient, state.indirect)]
             frame.ambient, frame.indirect = (device_array(mi.Float, ambient_table(t, len(self.objects)).ravel())
                                                  for t in tables)
@@ -855,10 +855,10 @@ class HybridRenderer:
               clock: "_HostClock | None" = None) -> PassOutput:
         """One sample pass: the visibility buffer (stage 1, OpenGL), then the device pass."""
         clock = clock or _HostClock()
-        triangle_id = self._visibility(settings, frame, sample, offset, clock, timed=False)
+        triangle_id = self._visibility(settings, frame, offset, clock, timed=False)
         return self._device(settings, frame, config, seed, sample, offset, triangle_id, clock)
 
-    def _visibility(self, settings: HybridSettings, frame: _Frame, sample: int, offset, clock: "_HostClock",
+    def _visibility(self, settings: HybridSettings, frame: _Frame, offset, clock: "_HostClock",
                     timed: bool = True) -> mi.UInt32:
         """Stage 1 of one sample pass: the visibility buffer drawn by OpenGL, as a Dr.Jit array
         (camera rays need none: zeros), or drawn already by the frame before (:meth:`_draw_ahead`).
