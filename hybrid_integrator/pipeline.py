@@ -925,7 +925,7 @@ class HybridRenderer:
         if ahead is None:
             return None
         if (ahead.setup == frame.setup and ahead.offset == tuple(offset) and ahead.draws == self.raster.draws
-                and ahead.camera.draws_as(frame.camera, offset)):
+                and ahead.camera.draws_as(frame.camera)):
             frame.queries.append(ahead.query)
             frame.stats.raster_ahead += 1
             return ahead.fbo

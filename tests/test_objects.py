@@ -153,6 +153,8 @@ def test_a_still_camera_draws_the_next_frame_ahead():
         results = [hi.render(scene, seed=s, raster_ahead=ahead, **props) for s in seeds]
         return [np.array(r.image) for r in results], [(r.stats.raster_ahead, r.stats.raster_discarded) for r in results]
 
+    with pytest.raises(hi.HybridError, match="raster_ahead='maybe' is not one of"):
+        hi.render(scene, raster_ahead="maybe", **props)
     own, counts = frames(range(4), "off")
     assert counts == [(0, 0)] * 4
     drawn, counts = frames(range(4), "on")

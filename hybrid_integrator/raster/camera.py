@@ -140,15 +140,16 @@ class RasterCamera:
         return replace(self, world_to_clip=self.projection @ world_to_camera, eye=camera_to_world[:3, 3].copy(),
                        depth_row=world_to_camera[2].copy())
 
-    def draws_as(self, other: "RasterCamera", offset: tuple[float, float]) -> bool:
-        """Whether this camera's raster pass at ``offset`` is ``other``'s: the same film and the
-        same matrix and eye for the vertex shader (:meth:`relative_clip`)."""
+    def draws_as(self, other: "RasterCamera") -> bool:
+        """Whether this camera's raster pass is ``other``'s at every sub-pixel offset: the same film,
+        clip planes, world → clip matrix and eye (no matrix is made: a frame compares the camera a
+        pass was drawn ahead for with its own, ``pipeline.HybridRenderer._drawn_ahead``)."""
         if self is other:
             return True
-        if (self.width, self.height) != (other.width, other.height):
-            return False
-        (clip, origin), (other_clip, other_origin) = self.relative_clip(offset), other.relative_clip(offset)
-        return np.array_equal(clip, other_clip) and np.array_equal(origin, other_origin)
+        same = (self.width, self.height, self.near_clip, self.far_clip, self.orthographic) == \
+               (other.width, other.height, other.near_clip, other.far_clip, other.orthographic)
+        return (same and np.array_equal(self.world_to_clip, other.world_to_clip) and np.array_equal(self.eye, other.eye)
+                and np.array_equal(self.depth_row, other.depth_row))
 
     def clip_matrix(self, offset: tuple[float, float] = (0.5, 0.5)) -> np.ndarray:
         """world → clip for samples at sub-pixel position ``offset`` ∈ [0,1)² in every pixel, with
