@@ -113,11 +113,12 @@ Properties
                  whole, at a fraction of the cost; chosen like an object, by the error it was
                  measured to remove (``hybrid_integrator/heuristic.py``; default on;
                  ``stats.shadow_only`` lists the objects so traced).
-``raster_ahead`` where the camera stands still (the same as in the frame before), a frame issues the
-                 next frame's raster pass at its end, behind its own work: OpenGL runs it once the
-                 GPU is done with the frame, and the next frame starts from a finished visibility
-                 buffer (``stats.raster_ahead``; one that does not match, such as after a camera
-                 move, is drawn again: ``stats.raster_discarded``). ``auto`` (the default): where
+``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
+                 before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues
+                 the next frame's raster pass at its end, behind its own work: OpenGL runs it once
+                 the GPU is done with the frame, and the next frame starts from a finished
+                 visibility buffer (``stats.raster_ahead``; one that does not match, such as after
+                 an unforeseen camera move, is drawn again: ``stats.raster_discarded``). ``auto`` (the default): where
                  the buffer reaches Dr.Jit through CUDA–OpenGL interop, whose unmap orders
                  OpenGL's draw after the frame's CUDA work; ``on``; ``off``.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
