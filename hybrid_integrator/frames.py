@@ -66,9 +66,10 @@ class FrameRenderer:
         self.integrator = hi.api._integrator(dict(job.properties))
         self.params = mi.traverse(self.scene.sensors()[0])
 
-    def render(self, index: int, camera: list) -> int:
+    def render(self, index: int, camera: list, next_camera: list | None = None) -> int:
         """Render frame ``index`` from ``camera`` (a 4×4 to_world) and write it; a frame already on
-        disk is skipped. Returns ``index``."""
+        disk is skipped. ``next_camera``: the pose of the frame this renderer renders next, whose
+        raster pass the frame draws ahead (``raster_ahead``). Returns ``index``."""
         import mitsuba as mi
 
         out = Path(self.job.out_dir)
@@ -76,7 +77,9 @@ class FrameRenderer:
             return index
         self.params["to_world"] = mi.ScalarTransform4f(np.asarray(camera, dtype=np.float64))
         self.params.update()
-        result = self.integrator.render_result(self.scene, seed=self.job.seed + index, spp=self.job.spp)
+        upcoming = None if next_camera is None else mi.ScalarTransform4f(np.asarray(next_camera, dtype=np.float64))
+        result = self.integrator.render_result(self.scene, seed=self.job.seed + index, spp=self.job.spp,
+                                               next_camera=upcoming)
         write_frame(out, index, result)
         return index
 
@@ -115,8 +118,8 @@ def render_frames(scene: str | Path, cameras, out_dir: str | Path, spp: int = 1,
     bar = tqdm(total=len(matrices), initial=len(matrices) - len(todo), desc="frames", unit="frame")
     if todo and workers == 1:
         renderer = FrameRenderer(job)
-        for k in todo:
-            renderer.render(k, matrices[k])
+        for k, after in zip(todo, todo[1:] + [None]):
+            renderer.render(k, matrices[k], None if after is None else matrices[after])
             bar.update()
     elif todo:
         _render_on_ray(job, matrices, todo, workers, ray_address, gpus_per_worker, bar)
@@ -148,7 +151,9 @@ def _render_on_ray(job: Job, matrices: list, todo: list[int], workers: int, addr
     pending = []
     for chunk in chunks(todo, workers):
         worker = actor.remote(job)
-        pending += [worker.render.remote(int(k), matrices[k]) for k in chunk]  # in order: state carries
+        # in order: state carries, and each frame draws its worker's next frame's raster pass ahead
+        pending += [worker.render.remote(int(k), matrices[k], None if after is None else matrices[after])
+                    for k, after in zip(chunk, chunk[1:] + [None])]
     while pending:
         done, pending = ray.wait(pending, num_returns=1)
         ray.get(done)

@@ -66,8 +66,9 @@ def test_chunks_are_contiguous_and_cover_every_frame():
 def test_two_ray_workers_render_what_one_process_renders(tmp_path, ray_session):
     cameras = _cameras(6)
     one = _fresh_process(cameras, tmp_path / "one", seed=3)
+    # the workers draw each next frame's raster pass ahead (on the CPU only when asked): the same frames
     two = render_frames(DEFAULT_SCENE, cameras, tmp_path / "two", seed=3, workers=2, params=SMALL,
-                        learn_ambient=False)
+                        learn_ambient=False, raster_ahead="on")
     assert one["rendered"] == two["rendered"] == 6 and two["preview"] and (tmp_path / "two" / "preview.gif").is_file()
     for k in range(6):
         a, _ = read_exr(tmp_path / "one" / f"frame_{k:05d}.exr")
@@ -76,6 +77,8 @@ def test_two_ray_workers_render_what_one_process_renders(tmp_path, ray_session):
         assert np.abs(image_a - image_b).mean() <= 1e-3 * image_a.mean(), k
         stats = json.loads((tmp_path / "two" / f"frame_{k:05d}.json").read_text())
         assert stats["frame"] == k and stats["width"] == 64 and stats["secondary_rays"] > 0
+        # chunks [0, 1, 2] and [3, 4, 5]: a worker's first frame has nothing drawn ahead
+        assert (stats["raster_ahead"], stats["raster_discarded"]) == ((0, 0) if k in (0, 3) else (1, 0)), k
 
 
 def test_a_resumed_run_renders_only_missing_frames(tmp_path):
