@@ -6,11 +6,15 @@
 # the tarball split in two parts: the wheel's 171 MB do not fit a carry), cffi, pycparser, tqdm
 # (cp312 wheels), and the bench scenes' files from ../shared/scenes (scn.tar.xz).
 #   call 1: bash extras.sh 1 (carry .device_x1)   call 2: bash extras.sh 2 (carry .device_x2)
+# Since stop 37 the tracked tree is too large to carry scn.tar.xz with oidn.part00: it sits in
+# .device_x3/ (git-excluded), unpacked by a call of its own, bash extras.sh 3 (carry .device_x3).
 set -euo pipefail
 mkdir -p /tmp/extra /tmp/scn
 if [ "$1" = 1 ]; then
   cp .device_x1/oidn.part00 /tmp/oidn.part00
-  tar -xJf .device_x1/scn.tar.xz -C /tmp/scn
+  if [ -f .device_x1/scn.tar.xz ]; then tar -xJf .device_x1/scn.tar.xz -C /tmp/scn; fi
+elif [ "$1" = 3 ]; then
+  tar -xJf .device_x3/scn.tar.xz -C /tmp/scn
 else
   cat /tmp/oidn.part00 .device_x2/oidn.part01 | tar -xJ -C /tmp/extra
   for w in .device_x2/*.whl; do python3 -m zipfile -e "$w" /tmp/extra; done
