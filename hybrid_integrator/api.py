@@ -130,7 +130,7 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
                 params.update()
                 current = matrix
             # the next pose: this frame draws the next one's raster pass ahead (``raster_ahead``)
-            upcoming = mi.ScalarTransform4f(matrices[frame + 1]) if frame + 1 < len(matrices) else None
+            upcoming = matrices[frame + 1] if frame + 1 < len(matrices) else None
             results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp, layers=layers,
                                                     next_camera=upcoming))
     finally:

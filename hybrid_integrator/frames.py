@@ -77,9 +77,8 @@ class FrameRenderer:
             return index
         self.params["to_world"] = mi.ScalarTransform4f(np.asarray(camera, dtype=np.float64))
         self.params.update()
-        upcoming = None if next_camera is None else mi.ScalarTransform4f(np.asarray(next_camera, dtype=np.float64))
         result = self.integrator.render_result(self.scene, seed=self.job.seed + index, spp=self.job.spp,
-                                               next_camera=upcoming)
+                                               next_camera=next_camera)
         write_frame(out, index, result)
         return index
 

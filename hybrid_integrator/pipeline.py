@@ -53,7 +53,7 @@ from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, ca
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
 from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolve_outline, resolved, traced_hits
-from .raster.camera import RasterCamera, resolve_sensor
+from .raster.camera import RasterCamera, camera_pose, resolve_sensor
 from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.interop import HostCopy, device_array
@@ -910,7 +910,7 @@ class HybridRenderer:
                                                 and self.raster.readback == "cuda-gl-interop")
         if settings.primary != "raster" or not on or not (still or next_camera is not None):
             return
-        camera = frame.camera if next_camera is None else frame.camera.at(next_camera)
+        camera = frame.camera if next_camera is None else frame.camera.at(camera_pose(next_camera))
         if self._ahead is not None:  # drawn for a frame that did not come: its query back
             self._gl_queries.append(self._ahead.query)
         queries: list = []

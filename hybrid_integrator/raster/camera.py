@@ -125,20 +125,17 @@ class RasterCamera:
                                   [0.0, 2.0, 0.0, -2.0 * ppy - 1.0],
                                   [0.0, 0.0, 2.0, -1.0],
                                   [0.0, 0.0, 0.0, 1.0]])
-        camera = cls(width=int(size[0]), height=int(size[1]), world_to_clip=np.eye(4), eye=np.zeros(3),
-                     near_clip=float(near), far_clip=float(far), orthographic=orthographic,
-                     projection=sample_to_ndc @ camera_to_sample).at(camera_to_world)
+        projection = sample_to_ndc @ camera_to_sample
+        camera = cls(width=int(size[0]), height=int(size[1]), near_clip=float(near), far_clip=float(far),
+                     orthographic=orthographic, projection=projection, **_placed(projection, camera_to_world))
         kept.key, kept.values, kept.camera = key, values, camera
         return camera
 
-    def at(self, camera_to_world) -> "RasterCamera":
+    def at(self, camera_to_world: np.ndarray) -> "RasterCamera":
         """The same camera (film, projection, clip planes) placed at ``camera_to_world`` (a 4×4
-        matrix or a Mitsuba transform: the sensor's ``to_world``), e.g. the next pose of a camera
-        path (``pipeline.HybridRenderer._draw_ahead``)."""
-        camera_to_world = transform_matrix(camera_to_world)
-        world_to_camera = np.linalg.inv(camera_to_world)
-        return replace(self, world_to_clip=self.projection @ world_to_camera, eye=camera_to_world[:3, 3].copy(),
-                       depth_row=world_to_camera[2].copy())
+        matrix as :func:`camera_pose` gives it), e.g. the next pose of a camera path
+        (``pipeline.HybridRenderer._draw_ahead``)."""
+        return replace(self, **_placed(self.projection, camera_to_world))
 
     def draws_as(self, other: "RasterCamera") -> bool:
         """Whether this camera's raster pass is ``other``'s at every sub-pixel offset: the same film,
@@ -196,6 +193,20 @@ class RasterCamera:
             clip[2] = (0.0, 0.0, 0.0, self.near_clip)
         origin = self.eye.astype(np.float32)
         return clip, clip @ np.r_[origin.astype(np.float64), 1.0], origin
+
+
+def _placed(projection: np.ndarray, camera_to_world: np.ndarray) -> dict:
+    """The fields of a :class:`RasterCamera` that its pose sets, for camera → clip ``projection``."""
+    world_to_camera = np.linalg.inv(camera_to_world)
+    return dict(world_to_clip=projection @ world_to_camera, eye=camera_to_world[:3, 3].copy(),
+                depth_row=world_to_camera[2].copy())
+
+
+def camera_pose(transform) -> np.ndarray:
+    """A sensor's ``to_world`` to be (a Mitsuba transform or a 4×4 matrix) as the sensor will hold
+    it: float32 values (Mitsuba's transforms are float32), in float64, so that a camera placed
+    there (:meth:`RasterCamera.at`) equals the one the sensor gives once it is moved there."""
+    return transform_matrix(transform).astype(np.float32).astype(np.float64)
 
 
 def transform_matrix(transform) -> np.ndarray:
