@@ -673,6 +673,7 @@ class HybridRenderer:
         ``next_camera``: the sensor's ``to_world`` in the next frame, where it is known (a camera
         path): the frame draws that frame's raster pass ahead (:meth:`_draw_ahead`)."""
         state = state if state is not None else FrameState()
+        next_pose = None if next_camera is None else camera_pose(next_camera)  # checked before any work
         if int(spp) < 0:
             raise HybridError(f"spp={spp} is impossible: give a number of samples per pixel >= 1 (0: the scene's sampler's)")
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
@@ -719,7 +720,7 @@ class HybridRenderer:
             # frame's work) now, where the host waits for the GPU, not in the next frame's raster pass
             self.raster.release()
             # then the next frame's raster pass, which OpenGL runs once this frame's work is done
-            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_camera)
+            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
             clock.lap("ahead")
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
@@ -887,11 +888,11 @@ class HybridRenderer:
         gl_flush()  # the draw and the query's end to the GPU now
         return fbo
 
-    def _draw_ahead(self, settings: HybridSettings, frame: _Frame, offset, next_camera=None) -> None:
+    def _draw_ahead(self, settings: HybridSettings, frame: _Frame, offset, next_pose: np.ndarray | None = None) -> None:
         """The next frame's raster pass (its first sample pass, at the next seed's first sub-pixel
         ``offset``), issued at the end of this frame where ``raster_ahead`` allows it and the next
-        frame's camera can be foreseen: ``next_camera`` (its ``to_world``, given by a camera path:
-        ``api.render_sequence``), or this frame's where the camera stands still (the same camera
+        frame's camera can be foreseen: ``next_pose`` (its ``to_world``, given by a camera path:
+        ``api.render_sequence``; ``raster.camera.camera_pose``), or this frame's where the camera stands still (the same camera
         as the frame before, for the same set-up).
 
         It is issued after the frame's targets are handed back to OpenGL (``Rasterizer.release``:
@@ -901,16 +902,16 @@ class HybridRenderer:
         frame starts from its interop copy, with OpenGL's host issue and the switch between the
         two APIs' contexts behind it (docs/results, issue 10, stop 37). Stop 31 drew ahead while
         the GPU traced, into another target, which OpenGL then ran in turns with the trace: slower.
-        Without ``next_camera``, a camera that moved since the last frame draws nothing ahead (the
+        Without ``next_pose``, a camera that moved since the last frame draws nothing ahead (the
         next one would likely move again); a next frame that does not match discards what was
         drawn (``FrameStats.raster_discarded``)."""
         still = self._cameras.get(frame.setup) is frame.camera
         self._cameras[frame.setup] = frame.camera
         on = settings.raster_ahead == "on" or (settings.raster_ahead == "auto"
                                                 and self.raster.readback == "cuda-gl-interop")
-        if settings.primary != "raster" or not on or not (still or next_camera is not None):
+        if settings.primary != "raster" or not on or not (still or next_pose is not None):
             return
-        camera = frame.camera if next_camera is None else frame.camera.at(camera_pose(next_camera))
+        camera = frame.camera if next_pose is None else frame.camera.at(next_pose)
         if self._ahead is not None:  # drawn for a frame that did not come: its query back
             self._gl_queries.append(self._ahead.query)
         queries: list = []

@@ -194,6 +194,10 @@ def test_a_camera_path_draws_each_next_frame_ahead():
     assert all(np.abs(a - b).max() <= 1e-6 for a, b in images)  # as the test above
     assert np.abs(images[0][0] - images[3][0]).max() > 0.05  # the camera did move
     assert np.array_equal(transform_matrix(sensor_to_world(scene.sensors()[0])), start)
+    # a next pose that is no transform is named before the frame does anything
+    for bad in (np.zeros((4, 4)), np.full((4, 4), np.nan), [1.0, 2.0]):
+        with pytest.raises(hi.HybridError, match="camera pose .* is not a"):
+            hi.api._integrator({"raster_ahead": "on"}).render_result(scene, spp=1, next_camera=bad)
 
 
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05), (2**22 + 3, 0.5)])

@@ -23,7 +23,7 @@ import drjit as dr
 import mitsuba as mi
 import numpy as np
 
-from ..errors import UnsupportedSceneError
+from ..errors import HybridError, UnsupportedSceneError
 
 SUPPORTED_SENSORS = ("PerspectiveCamera", "OrthographicCamera")
 
@@ -205,8 +205,15 @@ def _placed(projection: np.ndarray, camera_to_world: np.ndarray) -> dict:
 def camera_pose(transform) -> np.ndarray:
     """A sensor's ``to_world`` to be (a Mitsuba transform or a 4×4 matrix) as the sensor will hold
     it: float32 values (Mitsuba's transforms are float32), in float64, so that a camera placed
-    there (:meth:`RasterCamera.at`) equals the one the sensor gives once it is moved there."""
-    return transform_matrix(transform).astype(np.float32).astype(np.float64)
+    there (:meth:`RasterCamera.at`) equals the one the sensor gives once it is moved there. A
+    pose that is not a finite, invertible 4×4 transform is a :class:`HybridError` naming it."""
+    try:
+        matrix = transform_matrix(transform).astype(np.float32).astype(np.float64)
+    except (TypeError, ValueError) as exc:
+        raise HybridError(f"camera pose {transform!r} is not a 4×4 transform") from exc
+    if not np.isfinite(matrix).all() or np.linalg.det(matrix) == 0:
+        raise HybridError(f"camera pose {matrix.tolist()} is not a finite, invertible transform")
+    return matrix
 
 
 def transform_matrix(transform) -> np.ndarray:
