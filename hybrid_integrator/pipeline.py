@@ -332,9 +332,8 @@ class PassStatic:
     #: launch the glass pixels' paths first (``trace.trace_effects``' ``long``): on the CUDA backend,
     #: where a candidate's BSDF refracts. H100, 1280×720, the default frame's trace stage: the
     #: Armadillo 6.12-6.18 → 5.52-5.57 ms, the showcase 6.05-6.13 → 6.02-6.05; where glass is a
-    #: candidate but hardly traced, the partition cost ~0.07 ms (226 objects, 50 % budget: 1.81 →
-    #: 1.88 ms for the same rays; docs/results/gpu/issue10/stop27), when it took a second prefix
-    #: sum (now a second small kernel: ``selection.compact``).
+    #: candidate but hardly traced, the partition's second prefix sum costs ~0.07 ms (226 objects,
+    #: 50 % budget: 1.81 → 1.88 ms for the same rays; docs/results/gpu/issue10/stop27).
     #: Not on the LLVM backend, whose threads take large blocks of lanes each: pixel order spreads
     #: the long paths over them (the Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms
     #: long paths first)

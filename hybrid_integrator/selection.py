@@ -85,24 +85,17 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
 
 
 def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
-    """Stream compaction without a host round trip: the ``n`` set lanes of ``mask`` get the slots
-    0 … n−1, and lane ``j`` < n the index of the set lane in slot ``j``. The arrays keep the full
-    width, so the kernels that follow have a fixed size (they are recorded once, ``dr.freeze``)
-    and the lanes past ``n`` do nothing; ``dr.compress`` would instead read ``n`` back to the host
-    to size its result.
-
-    The slots come from an atomic counter (``dr.scatter_inc``: the lanes of a GPU warp that
-    increment together take consecutive slots, in lane order, for one atomic), in one kernel: on
-    an H200 it costs 0.017–0.028 ms of device time against 0.057 for the exclusive prefix sum it
-    replaces, whose block scan took three launches (issue 10, stop 38:
-    ``docs/results/gpu/issue10/stop38``). The order of the slots is therefore the warps' order
-    of arrival, not the pixels', which changes no result: every pixel's random stream and its
-    result's place are its own. With ``first`` masks (None: left out), the slots are a
-    partition: the set lanes of the first mask first, then those of the second that are not in
-    the first, ..., then the rest (the trace launches its re-traced primaries, then its long
-    paths, first); each part counts its own lanes, and a second kernel adds the counts of the
-    parts before it. Returns (index, lane active, slot of each set lane); the index of a lane
-    past n, and the slot of a lane not set, are unspecified.
+    """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
+    the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
+    arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
+    once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
+    ``n`` back to the host to size its result. With ``first`` masks (None: left out), the set lanes
+    of the first mask come first, then those of the second that are not in the first, ..., then
+    the rest, each part in order (a stable partition). The parts' counts share the bit fields of
+    one integer per lane (a field of ``bits`` holds any count up to the width), so that one prefix
+    sum numbers every part: each prefix sum is a kernel and a scan more in every replay of the
+    frozen pass, before its trace launches (three parts of a 1280×720 frame: one 64-bit sum).
+    Returns (index, lane active, slot of each set lane); the index of a lane past n is unspecified.
     """
     parts, rest = [], mask
     for group in (g for g in first if g is not None):
@@ -110,26 +103,25 @@ def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, 
         rest = rest & ~group
     parts.append(rest)
     width = dr.width(mask)
+    bits = max(width.bit_length(), 1)
+    per_word = 64 // bits
+    last = mi.UInt32(width - 1)
+    slot, n = mi.UInt32(0), mi.UInt32(0)
+    for start in range(0, len(parts), per_word):
+        word = parts[start:start + per_word]
+        dtype = mi.UInt64 if bits * len(word) > 32 else mi.UInt32
+        flags = dtype(0)
+        for k, part in enumerate(word):
+            flags |= dtype(part) << (bits * k)
+        within = dr.prefix_sum(flags)
+        total = dr.gather(dtype, within, last) + dr.gather(dtype, flags, last)
+        for k, part in enumerate(word):
+            shift, ones = bits * k, (1 << bits) - 1
+            slot = dr.select(part, n + mi.UInt32((within >> shift) & ones), slot)
+            n = n + mi.UInt32((total >> shift) & ones)
     lane = dr.arange(mi.UInt32, width)
-    part = mi.UInt32(len(parts) - 1)
-    for k in reversed(range(len(parts) - 1)):
-        part = dr.select(parts[k], k, part)
-    counts = dr.zeros(mi.UInt32, len(parts))
-    within = dr.scatter_inc(counts, part, mask)  # the lane's place among its part's set lanes
-    slot = dr.empty(mi.UInt32, width)
-    dr.scatter(slot, within, lane, mask)  # (an atomic's result is read once: kept in a buffer)
-    index = dr.empty(mi.UInt32, width)
-    if len(parts) == 1:
-        dr.scatter(index, lane, within, mask)
-    else:  # each part after those before it: their counts are known once the counter kernel ran
-        start = mi.UInt32(0)
-        for k in range(len(parts) - 1):
-            start += dr.select(part > k, dr.gather(mi.UInt32, counts, k), 0)
-        slot = dr.gather(mi.UInt32, slot, lane) + start
-        dr.scatter(index, lane, slot, mask)
-    n = mi.UInt32(0)
-    for k in range(len(parts)):
-        n += dr.gather(mi.UInt32, counts, k)
+    index = dr.empty(mi.UInt32, width)  # lanes past n: unspecified (read by none, not cleared)
+    dr.scatter(index, lane, slot, mask)
     return index, lane < n, slot
 
 
