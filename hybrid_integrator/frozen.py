@@ -31,12 +31,27 @@ says so, and the variables are taken again once. Where the snapshot cannot serve
 AD-attached scene variable, a Python plugin with Dr.Jit members outside Mitsuba's traversal, a
 second failure), the functions take the scene itself and Dr.Jit walks it on every call: counted
 in ``FrameStats.frozen_inputs`` as ``scene``.
+
+Most of the snapshot is not read by a given function: the trace call of ``scripts/trace_overhead.py``
+reads 118 of the 226-object scene's 267 variables, and the walk of a variable costs as much
+whether read or not (0.13 ms of host time per call for the 267 on an H200's host; docs/results,
+issue 10, stop 38). So each :class:`FrozenFunction` learns which of them its first recording
+reads: that recording runs with Dr.Jit's log at its ``Debug`` level, captured (Dr.Jit's module
+prints it to ``sys.stdout``), where the recording names the input slot of every variable it
+reads (a kernel's parameters, a virtual call's data); the scene's own few variables, through
+which an OptiX launch reads its shader binding table, are always passed (:func:`read_set`).
+Its later calls pass only those variables (``FrameStats.frozen_inputs``: ``read set``), which
+records once more. A later recording that reads a variable outside the set (a new configuration
+of the same function) is told so by Dr.Jit, and the function takes the whole snapshot from then
+on (``FrozenFunction.missed`` keeps what Dr.Jit said).
 """
 from __future__ import annotations
 
 import contextlib
 import gc
+import io
 import itertools
+import re
 from dataclasses import dataclass
 
 import drjit as dr
@@ -44,7 +59,7 @@ import mitsuba as mi
 
 #: what Dr.Jit's recording says when one of its inputs is missing: a variable read but not found
 #: among them, or a virtual call over instances whose members none of them holds
-_MISSING = ("not specified as an input variable", "traversal was skipped")
+_MISSING = ("not specified as an input variable", "traversal was skipped", "not supplied as a frozen-function input")
 _NO_ID = 2**31 - 1  # an instance id no registry reaches
 #: the class whose instance the frozen functions take as an input of its own (the sensor): its
 #: registered instances are not walked (the device pass calls the sensor it is given, no virtual
@@ -58,6 +73,9 @@ class SceneVariables:
 
     handles: tuple  # one ``mi.UInt32`` per variable (of any type: the frozen function reads its index)
     visits: int  # what one walk of Dr.Jit's visits for the same objects (with repeats)
+    #: the indices of the scene's own variables, none of an instance's (its acceleration structure's
+    #: state: an OptiX launch reads its shader binding table through one of them, not as a parameter)
+    own: frozenset = frozenset()
 
 
 def scene_variables(scene: mi.Scene) -> SceneVariables | None:
@@ -75,6 +93,7 @@ def scene_variables(scene: mi.Scene) -> SceneVariables | None:
     sensor_variables: list[int] = []
     with dr.scoped_set_flag(dr.JitFlag.EnableObjectTraversal, True):
         scene._traverse_1_cb_ro(visit)
+        of_scene = len(indices)
         for domain in domains:  # grows while instances point to other classes
             instances = [] if domain == _PASSED else _registered(domain)
             if instances is None:
@@ -93,7 +112,8 @@ def scene_variables(scene: mi.Scene) -> SceneVariables | None:
     passed = set(sensor_variables)
     distinct = [index for index in dict.fromkeys(indices) if index and index not in passed]
     handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(distinct), distinct))
-    return SceneVariables(handles=handles, visits=len(indices))
+    own = frozenset(indices[:of_scene]) - frozenset(indices[of_scene:])
+    return SceneVariables(handles=handles, visits=len(indices), own=own)
 
 
 def _registered(domain: str) -> list | None:
@@ -174,29 +194,82 @@ class FrozenScene:
 
 
 class FrozenFunction:
-    """One frozen function of a :class:`FrozenScene`: it replays with the snapshot in the
-    scene's place, and with the scene itself once the snapshot cannot serve."""
+    """One frozen function of a :class:`FrozenScene`: it replays with the variables of the snapshot
+    that its recording reads (learnt at its first call), with the whole snapshot where that set
+    fell short, and with the scene itself once the snapshot cannot serve."""
 
     def __init__(self, owner: FrozenScene, fn):
         bound = _Bound(owner.scene, fn)
         self.owner = owner
-        self.by_snapshot, self.by_scene = dr.freeze(bound.snapshot), dr.freeze(bound.whole)
+        self.by_snapshot, self.by_read, self.by_scene = (dr.freeze(bound.snapshot), dr.freeze(bound.snapshot),
+                                                         dr.freeze(bound.whole))
+        #: the snapshot the read set was learnt from, and the set (None: not learnt, or not usable)
+        self._learnt: SceneVariables | None = None
+        self.read: tuple | None = None
+        self.missed = ""  # what Dr.Jit said when a recording read beyond the read set ("": never)
+
+    @property
+    def inputs(self) -> str:
+        """What the function takes for the scene now: ``read set``, ``variables`` or ``scene``."""
+        if self.owner.whole:
+            return "scene"
+        return "read set" if self.read is not None and self._learnt is self.owner.variables else "variables"
 
     def __call__(self, *args):
         while (variables := self.owner.snapshot()) is not None:
             try:
                 with _collection_paused():
+                    if self._learnt is not variables:  # the first call on this snapshot: learn what it reads
+                        self._learnt, self.read = variables, None
+                        with _recording_log() as log:
+                            result = self.by_snapshot(variables.handles, *args)
+                        self.read = read_set(log.getvalue(), variables)
+                        return result
+                    if self.read is not None:
+                        return self.by_read(self.read, *args)
                     return self.by_snapshot(variables.handles, *args)
             except RuntimeError as error:
                 if not _missing_input(error):
                     raise
+                if self.read is not None and self._learnt is variables:  # a recording read beyond the set
+                    self.read, self.missed = None, str(error.__cause__ or error)[:300]
+                    continue
             self.owner.missed()
         with _collection_paused():
             return self.by_scene(self.owner.scene, *args)
 
     @property
     def n_recordings(self) -> int:
-        return self.by_snapshot.n_recordings + self.by_scene.n_recordings
+        return self.by_snapshot.n_recordings + self.by_read.n_recordings + self.by_scene.n_recordings
+
+
+def read_set(log: str, variables: SceneVariables) -> tuple | None:
+    """The handles of ``variables`` that a recording read, from Dr.Jit 1.5's ``Debug`` log of it:
+    ``Adding variable V <ptr> input i to slot sK`` maps each input variable to its slot; a slot is
+    read where a kernel's parameter is recorded (``-> param sK``, ``<- param sK``) or a virtual
+    call's data (``var at slot sK``). The scene's own variables (``SceneVariables.own``: its
+    acceleration structure's state, a handful) are always kept: an OptiX launch reads its shader
+    binding table through one of them, which the log does not name. ``None`` where the log holds
+    no recording (another format: the whole snapshot is passed)."""
+    if "Recording (n_inputs=" not in log:
+        return None
+    slots = {int(v): int(k) for v, k in re.findall(r"Adding variable (\d+) <[^>]*> input \d+ to slot s(\d+)", log)}
+    read = {int(k) for k in re.findall(r"(?:-> param|<- param|var at slot) s(\d+)", log)}
+    return tuple(h for h in variables.handles if slots.get(h.index) in read or h.index in variables.own)
+
+
+@contextlib.contextmanager
+def _recording_log():
+    """Dr.Jit's log at its ``Debug`` level (which names what a recording reads, without the
+    kernels' source that ``Trace`` adds), which its Python module prints to ``sys.stdout``, into
+    a string instead while the block runs (``.getvalue()``); the level restored after."""
+    level, log = dr.log_level(), io.StringIO()
+    with contextlib.redirect_stdout(log):
+        dr.set_log_level(dr.LogLevel.Debug)
+        try:
+            yield log
+        finally:
+            dr.set_log_level(level)
 
 
 @contextlib.contextmanager

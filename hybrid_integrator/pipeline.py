@@ -186,9 +186,11 @@ class FrameStats:
     raster_discarded: int = 0
     raster_method: str = ""  # the raster pass that made it: draw or compute (raster/visibility.py)
     fallback: str = ""  # what the frame did instead of the hybrid pipeline, and why ("": nothing)
-    #: what the frozen device pass took for the scene (frozen.py): ``variables``, the snapshot of
-    #: its Dr.Jit variables taken once; ``scene``, the scene itself, walked by Dr.Jit on every
-    #: call (where the snapshot cannot serve); "": the pass ran unfrozen
+    #: what the frozen device pass took for the scene (frozen.py): ``read set``, the variables of
+    #: the snapshot its recording reads; ``variables``, the whole snapshot of the scene's Dr.Jit
+    #: variables taken once (the pass's first call, which learns the read set, and where a later
+    #: recording read beyond it); ``scene``, the scene itself, walked by Dr.Jit on every call (where
+    #: the snapshot cannot serve); "": the pass ran unfrozen
     frozen_inputs: str = ""
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
@@ -952,7 +954,7 @@ class HybridRenderer:
                                                                               clock=self.clock))
         if frozen:
             output = self._frozen[frame.static](frame.sensor, data)
-            frame.stats.frozen_inputs = self.frozen.inputs
+            frame.stats.frozen_inputs = self._frozen[frame.static].inputs
         else:
             output = device_pass(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")

@@ -41,6 +41,7 @@ out["recordings"] = recordings
 frozen = hi.api.renderer(scene).frozen
 out["inputs"] = integrator.last_result.stats.frozen_inputs
 out["snapshot"] = [frozen.taken, len(frozen.variables.handles), frozen.variables.visits]
+out["read"] = [len(f.read) for f in hi.api.renderer(scene)._frozen.values()]
 print(json.dumps(out))
 """
 
@@ -51,10 +52,13 @@ def test_frozen_path_loop_matches_unfrozen():
     out = json.loads(result.stdout.strip().splitlines()[-1])
     recordings = out.pop("recordings")
     assert recordings == [recordings[0]] * len(recordings), recordings
-    # one snapshot of the scene's variables served every frame, each variable once
-    assert out.pop("inputs") == "variables"
+    # one snapshot of the scene's variables served every frame, each variable once, and the pass
+    # took only the part of it that its recording reads
+    assert out.pop("inputs") == "read set"
     taken, handles, visits = out.pop("snapshot")
     assert taken == 1 and 0 < handles < visits
+    read = out.pop("read")
+    assert read and all(0 < n < handles for n in read), (read, handles)
     for (plain_sum, plain_rays), (frozen_sum, frozen_rays) in zip(out["False"], out["True"]):
         assert plain_rays == frozen_rays
         assert abs(plain_sum - frozen_sum) <= 1e-4 * abs(plain_sum)
