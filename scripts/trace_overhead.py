@@ -9,9 +9,13 @@ the device pass, which computes its hits itself, takes no pointer array),
 and called for N = 1, 10, 100 … pixels and for every hit pixel. Per N: the median wall time of a
 call with the backend synchronized once, and its device time (Dr.Jit's kernel history: CUDA events
 on the GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
-the chart draws both. Then, for scale, the replay of a frozen function that does nothing but take
+the chart draws both. On a GPU a launch lasts as long as its longest path, and the longest of N
+paths grows with ln N (Russian roulette keeps a glass path with probability up to 0.95 per
+bounce), while the lanes are too few to fill the GPU; so a second fit, c0 + c1 ln N + c2 N, is
+reported and drawn beside the line (the x axis is logarithmic past 1). Then, for scale, the replay of a frozen function that does nothing but take
 the scene (``lambda scene, x: x + 1``), given the scene itself (Dr.Jit walks its objects and its
-registry), its variables (``frozen.FrozenScene``) or nothing.
+registry), its variables (``frozen.FrozenScene``'s snapshot), those the trace call's recording
+reads (its read set, which the trace call takes) or nothing.
 
     python scripts/trace_overhead.py -o docs/results/cpu/trace_overhead
     python3 scripts/trace_overhead.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/trace_overhead
@@ -79,6 +83,9 @@ def main() -> None:
     parser.add_argument("--resx", type=int, default=320)
     parser.add_argument("--resy", type=int, default=180)
     parser.add_argument("--repeats", type=int, default=41)
+    parser.add_argument("--max-depth", type=int, default=-1,
+                        help="the paths' max_depth (default -1: unlimited, the integrator's default; "
+                             "many_objects.xml's own integrator says 6)")
     parser.add_argument("--launches", action="store_true",
                         help="also print each launch's device time per number of pixels (what grows with it)")
     parser.add_argument("-o", "--output", type=Path, required=True)
@@ -114,7 +121,7 @@ def main() -> None:
         si = mi.SurfaceInteraction3f()
         for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
             setattr(si, k, v)
-        rt, _, counts = trace_effects(scene, ray, si, traced, effects, -1, 5, False, seed=seed, obj=obj, n_objects=n_objects)
+        rt, _, counts = trace_effects(scene, ray, si, traced, effects, args.max_depth, 5, False, seed=seed, obj=obj, n_objects=n_objects)
         return rt, counts.per_object
 
     frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
@@ -139,27 +146,34 @@ def main() -> None:
             print(row["pixels"], "pixels:", ", ".join(f"{e['type']}[{e['lanes']}] {e['ms']:.3f}" for e in row["launches"]),
                   flush=True)
     x = np.array([r["pixels"] for r in rows], dtype=np.float64)
-    fits = {}
+    fits, log_fits = {}, {}
     for key in ("wall_ms", "device_ms"):
-        slope, intercept = np.polyfit(x, [r[key] for r in rows], 1)
+        y = [r[key] for r in rows]
+        slope, intercept = np.polyfit(x, y, 1)
         fits[key] = {"fixed_ms": float(intercept), "ms_per_1000_pixels": float(slope * 1e3)}
+        c0, c1, c2 = np.linalg.lstsq(np.c_[np.ones_like(x), np.log(x), x], y, rcond=None)[0]
+        log_fits[key] = {"fixed_ms": float(c0), "ms_per_ln_pixels": float(c1), "ms_per_1000_pixels": float(c2 * 1e3)}
     x1 = dr.arange(mi.Float, 10)
-    with_scene, without = dr.freeze(lambda scene, x: x + 1), dr.freeze(lambda x: x + 1)
-    with_variables = FrozenScene(scene).freeze(lambda scene, x: x + 1)
+    with_scene, given, without = dr.freeze(lambda scene, x: x + 1), dr.freeze(lambda variables, x: x + 1), dr.freeze(lambda x: x + 1)
+    handles = frozen.owner.variables.handles
     replay = {"with_scene_ms": timed(lambda: with_scene(scene, x1), args.repeats)[0],
-              "with_scene_variables_ms": timed(lambda: with_variables(x1), args.repeats)[0],
+              "with_scene_variables_ms": timed(lambda: given(handles, x1), args.repeats)[0],
+              "with_read_set_ms": timed(lambda: given(frozen.read or (), x1), args.repeats)[0],
               "without_scene_ms": timed(lambda: without(x1), args.repeats)[0]}
     report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
-                         f"--repeats {args.repeats}",
+                         f"--repeats {args.repeats} --max-depth {args.max_depth}",
               "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
-              "resolution": [args.resx, args.resy], "rows": rows, "fit": fits, "frozen_replay": replay}
+              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
+              "scene_inputs": {"passed": frozen.inputs, "snapshot": len(frozen.owner.variables.handles),
+                               "read_set": None if frozen.read is None else len(frozen.read),
+                               "missed": frozen.missed}}
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps(report, indent=2))
-    _chart(args.output.with_suffix(".png"), rows, fits, report)
-    print(json.dumps({k: report[k] for k in ("fit", "frozen_replay", "objects", "shapes")}, indent=2))
+    _chart(args.output.with_suffix(".png"), rows, fits, log_fits, report)
+    print(json.dumps({k: report[k] for k in ("fit", "fit_with_log_term", "frozen_replay", "scene_inputs", "objects", "shapes")}, indent=2))
 
 
-def _chart(path: Path, rows: list[dict], fits: dict, report: dict) -> None:
+def _chart(path: Path, rows: list[dict], fits: dict, log_fits: dict, report: dict) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -171,13 +185,19 @@ def _chart(path: Path, rows: list[dict], fits: dict, report: dict) -> None:
     for key, label in (("wall_ms", "wall, one sync per call"), ("device_ms", "device (kernel history)")):
         line = ax.plot(x, [r[key] for r in rows], "o", label=label)[0]
         fit = fits[key]
-        xs = np.linspace(0, x.max(), 100)
+        xs = np.r_[0.0, np.geomspace(1, x.max(), 100)]
         ax.plot(xs, fit["fixed_ms"] + fit["ms_per_1000_pixels"] * xs / 1e3, "-", color=line.get_color(), alpha=0.6,
                 label=f"fit: {fit['fixed_ms']:.3f} ms + {fit['ms_per_1000_pixels']:.4f} ms / 1000 px")
-    ax.set_xlabel("traced pixels")
+        log_fit, xl = log_fits[key], np.geomspace(1, x.max(), 100)
+        ax.plot(xl, log_fit["fixed_ms"] + log_fit["ms_per_ln_pixels"] * np.log(xl) + log_fit["ms_per_1000_pixels"] * xl / 1e3,
+                ":", color=line.get_color(), alpha=0.8,
+                label=f"{log_fit['fixed_ms']:.3f} + {log_fit['ms_per_ln_pixels']:.3f} ln N + "
+                      f"{log_fit['ms_per_1000_pixels']:.4f} ms / 1000 px")
+    ax.set_xscale("symlog", linthresh=1)
+    ax.set_xlabel("traced pixels N")
     ax.set_ylabel("ms per trace call")
-    ax.set_title(f"trace call on {report['objects']} objects ({report['shapes']} shapes), "
-                 f"{report['machine']['variant']}", fontsize=9)
+    ax.set_title(f"trace call on {report['objects']} objects ({report['shapes']} shapes), max_depth "
+                 f"{report['max_depth']}, {report['machine']['variant']}", fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
