@@ -89,6 +89,28 @@ def test_a_scene_loaded_after_the_snapshot_has_it_taken_again():
     assert frozen.taken == 2 and frozen.inputs == "variables" and later.shapes()
 
 
+def _distance(scene, x):
+    """What ``_shade`` traces, without the BSDF: no BSDF variable is read."""
+    return scene.ray_intersect(mi.Ray3f(mi.Point3f(0, 0, 3.9), dr.normalize(mi.Vector3f(x - 0.5, 0.1, -1)))).t + x
+
+
+def test_a_recording_that_reads_beyond_the_read_set_takes_the_whole_snapshot():
+    """A frozen function passes the part of the snapshot its first recording read; a later
+    recording (another configuration: a Python argument) that reads more is told so by Dr.Jit,
+    and the function takes the whole snapshot from then on, computing what the unfrozen code
+    computes."""
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    frozen = FrozenScene(scene)
+    fn = frozen.freeze(lambda scene, x, bsdf: _shade(scene, x) if bsdf else _distance(scene, x))
+    x = dr.arange(mi.Float, 64) / 64
+    for _ in range(3):
+        assert dr.allclose(fn(x, False), _distance(scene, x))
+    assert fn.inputs == "read set" and 0 < len(fn.read) < len(frozen.variables.handles) and not fn.missed
+    for _ in range(3):
+        assert dr.allclose(fn(x, True), _shade(scene, x)) and dr.allclose(fn(x, False), _distance(scene, x))
+    assert fn.inputs == "variables" and fn.missed.startswith("record()")  # what Dr.Jit said
+
+
 def test_a_scene_the_snapshot_cannot_take_is_walked_whole():
     """A scene variable attached to Dr.Jit's AD graph has no plain handle: the functions take the
     scene itself (counted as ``scene``) and still compute what the unfrozen code computes."""
