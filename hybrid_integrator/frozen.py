@@ -41,9 +41,10 @@ prints it to ``sys.stdout``), where the recording names the input slot of every 
 reads (a kernel's parameters, a virtual call's data); the scene's own few variables, through
 which an OptiX launch reads its shader binding table, are always passed (:func:`read_set`).
 Its later calls pass only those variables (``FrameStats.frozen_inputs``: ``read set``), which
-records once more. A later recording that reads a variable outside the set (a new configuration
-of the same function) is told so by Dr.Jit, and the function takes the whole snapshot from then
-on (``FrozenFunction.missed`` keeps what Dr.Jit said).
+records once more. A recording with the set that Dr.Jit refuses (one that reads a variable
+outside it: a new configuration of the same function; an input Dr.Jit demands that no log line
+names) is made again with the whole snapshot, which the function takes from then on
+(``FrozenFunction.missed`` keeps what Dr.Jit said).
 """
 from __future__ import annotations
 
@@ -59,7 +60,7 @@ import mitsuba as mi
 
 #: what Dr.Jit's recording says when one of its inputs is missing: a variable read but not found
 #: among them, or a virtual call over instances whose members none of them holds
-_MISSING = ("not specified as an input variable", "traversal was skipped", "not supplied as a frozen-function input")
+_MISSING = ("not specified as an input variable", "traversal was skipped")
 _NO_ID = 2**31 - 1  # an instance id no registry reaches
 #: the class whose instance the frozen functions take as an input of its own (the sensor): its
 #: registered instances are not walked (the device pass calls the sensor it is given, no virtual
@@ -229,11 +230,14 @@ class FrozenFunction:
                         return self.by_read(self.read, *args)
                     return self.by_snapshot(variables.handles, *args)
             except RuntimeError as error:
-                if not _missing_input(error):
-                    raise
-                if self.read is not None and self._learnt is variables:  # a recording read beyond the set
+                # a recording with the read set that fails, for any reason Dr.Jit gives (a variable read
+                # beyond the set; an input it demands that no log line names, as an OptiX launch's shader
+                # binding table), is repeated with the whole snapshot, which stays from then on
+                if self.read is not None and self._learnt is variables:
                     self.read, self.missed = None, str(error.__cause__ or error)[:300]
                     continue
+                if not _missing_input(error):
+                    raise
             self.owner.missed()
         with _collection_paused():
             return self.by_scene(self.owner.scene, *args)
