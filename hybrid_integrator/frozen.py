@@ -33,9 +33,9 @@ second failure), the functions take the scene itself and Dr.Jit walks it on ever
 in ``FrameStats.frozen_inputs`` as ``scene``.
 
 Most of the snapshot is not read by a given function: the trace call of ``scripts/trace_overhead.py``
-reads 118 of the 226-object scene's 267 variables, and the walk of a variable costs as much
-whether read or not (0.13 ms of host time per call for the 267 on an H200's host; docs/results,
-issue 10, stop 38). So each :class:`FrozenFunction` learns which of them its first recording
+reads 121 of the 226-object scene's 267 variables, and the walk of a variable costs as much
+whether read or not (on an H200's host, the replay of a function that only takes them: 0.15–0.16
+ms given the 267, 0.09–0.10 given the 121; docs/results/gpu/issue10/stop38). So each :class:`FrozenFunction` learns which of them its first recording
 reads: that recording runs with Dr.Jit's log at its ``Debug`` level, captured (Dr.Jit's module
 prints it to ``sys.stdout``), where the recording names the input slot of every variable it
 reads (a kernel's parameters, a virtual call's data); the scene's own few variables, through
