@@ -207,7 +207,7 @@ class FrozenFunction:
         #: the snapshot the read set was learnt from, and the set (None: not learnt, or not usable)
         self._learnt: SceneVariables | None = None
         self.read: tuple | None = None
-        self.missed = ""  # what Dr.Jit said when a recording read beyond the read set ("": never)
+        self.missed = ""  # what Dr.Jit said when a recording with the read set failed ("": never)
 
     @property
     def inputs(self) -> str:
