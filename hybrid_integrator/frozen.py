@@ -35,16 +35,17 @@ in ``FrameStats.frozen_inputs`` as ``scene``.
 Most of the snapshot is not read by a given function: the trace call of ``scripts/trace_overhead.py``
 reads 121 of the 226-object scene's 267 variables, and the walk of a variable costs as much
 whether read or not (on an H200's host, the replay of a function that only takes them: 0.15–0.16
-ms given the 267, 0.09–0.10 given the 121; docs/results/gpu/issue10/stop38). So each :class:`FrozenFunction` learns which of them its first recording
-reads: that recording runs with Dr.Jit's log at its ``Debug`` level, captured (Dr.Jit's module
-prints it to ``sys.stdout``), where the recording names the input slot of every variable it
-reads (a kernel's parameters, a virtual call's data); the scene's own few variables, through
-which an OptiX launch reads its shader binding table, are always passed (:func:`read_set`).
-Its later calls pass only those variables (``FrameStats.frozen_inputs``: ``read set``), which
-records once more. A recording with the set that Dr.Jit refuses (one that reads a variable
-outside it: a new configuration of the same function; an input Dr.Jit demands that no log line
-names) is made again with the whole snapshot, which the function takes from then on
-(``FrozenFunction.missed`` keeps what Dr.Jit said).
+ms given the 267, 0.09–0.10 given the 121; docs/results/gpu/issue10/stop38). So each
+:class:`FrozenFunction` learns which of them its first recording reads: that recording runs with
+Dr.Jit's log at its ``Debug`` level, captured (Dr.Jit's module prints it to ``sys.stdout``), where
+the recording names the input slot of every variable it reads (a kernel's parameters, a virtual
+call's data); the scene's own few variables, through which an OptiX launch reads its shader
+binding table, are always passed (:func:`read_set`). Its later calls pass only those variables
+(``FrameStats.frozen_inputs``: ``read set``), which records once more (the same ``dr.freeze``
+keeps both recordings: their inputs differ in layout). A recording with the set that Dr.Jit
+refuses (one that reads a variable outside it: a new configuration of the same function; an input
+Dr.Jit demands that no log line names) is made again with the whole snapshot, which the function
+takes from then on (``FrozenFunction.missed`` keeps what Dr.Jit said).
 """
 from __future__ import annotations
 
@@ -202,8 +203,7 @@ class FrozenFunction:
     def __init__(self, owner: FrozenScene, fn):
         bound = _Bound(owner.scene, fn)
         self.owner = owner
-        self.by_snapshot, self.by_read, self.by_scene = (dr.freeze(bound.snapshot), dr.freeze(bound.snapshot),
-                                                         dr.freeze(bound.whole))
+        self.by_snapshot, self.by_scene = dr.freeze(bound.snapshot), dr.freeze(bound.whole)
         #: the snapshot the read set was learnt from, and the set (None: not learnt, or not usable)
         self._learnt: SceneVariables | None = None
         self.read: tuple | None = None
@@ -226,9 +226,7 @@ class FrozenFunction:
                             result = self.by_snapshot(variables.handles, *args)
                         self.read = read_set(log.getvalue(), variables)
                         return result
-                    if self.read is not None:
-                        return self.by_read(self.read, *args)
-                    return self.by_snapshot(variables.handles, *args)
+                    return self.by_snapshot(variables.handles if self.read is None else self.read, *args)
             except RuntimeError as error:
                 # a recording with the read set that fails, for any reason Dr.Jit gives (a variable read
                 # beyond the set; an input it demands that no log line names, as an OptiX launch's shader
@@ -244,7 +242,7 @@ class FrozenFunction:
 
     @property
     def n_recordings(self) -> int:
-        return self.by_snapshot.n_recordings + self.by_read.n_recordings + self.by_scene.n_recordings
+        return self.by_snapshot.n_recordings + self.by_scene.n_recordings
 
 
 def read_set(log: str, variables: SceneVariables) -> tuple | None:

@@ -953,8 +953,9 @@ class HybridRenderer:
             self._frozen[frame.static] = self.frozen.freeze(functools.partial(device_pass, static=frame.static,
                                                                               clock=self.clock))
         if frozen:
-            output = self._frozen[frame.static](frame.sensor, data)
-            frame.stats.frozen_inputs = self._frozen[frame.static].inputs
+            function = self._frozen[frame.static]
+            output = function(frame.sensor, data)
+            frame.stats.frozen_inputs = function.inputs
         else:
             output = device_pass(self.scene, frame.sensor, data, frame.static, self.clock)
         clock.lap("replay")

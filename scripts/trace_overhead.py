@@ -12,8 +12,8 @@ on the GPU). A least-squares line through (N, time) gives the fixed part and the
 the chart draws both. On a GPU a launch lasts as long as its longest path, and the longest of N
 paths grows with ln N (Russian roulette keeps a glass path with probability up to 0.95 per
 bounce), while the lanes are too few to fill the GPU; so a second fit, c0 + c1 ln N + c2 N, is
-reported and drawn beside the line (the x axis is logarithmic past 1). Then, for scale, the replay of a frozen function that does nothing but take
-the scene (``lambda scene, x: x + 1``), given the scene itself (Dr.Jit walks its objects and its
+reported and drawn beside the line (the x axis is logarithmic past 1). Then, for scale, the
+replay of a frozen function that does nothing but take the scene (``lambda scene, x: x + 1``), given the scene itself (Dr.Jit walks its objects and its
 registry), its variables (``frozen.FrozenScene``'s snapshot), those the trace call's recording
 reads (its read set, which the trace call takes) or nothing.
 
@@ -164,7 +164,7 @@ def main() -> None:
                          f"--repeats {args.repeats} --max-depth {args.max_depth}",
               "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
               "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
-              "scene_inputs": {"passed": frozen.inputs, "snapshot": len(frozen.owner.variables.handles),
+              "scene_inputs": {"passed": frozen.inputs, "snapshot": len(handles),
                                "read_set": None if frozen.read is None else len(frozen.read),
                                "missed": frozen.missed}}
     args.output.parent.mkdir(parents=True, exist_ok=True)

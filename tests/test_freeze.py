@@ -64,11 +64,15 @@ def test_frozen_path_loop_matches_unfrozen():
         assert abs(plain_sum - frozen_sum) <= 1e-4 * abs(plain_sum)
 
 
+def _ray(x):
+    """The rays of ``x`` (in [0, 1)) into the test scene from its camera's place."""
+    return mi.Ray3f(mi.Point3f(0, 0, 3.9), dr.normalize(mi.Vector3f(x - 0.5, 0.1, -1)))
+
+
 def _shade(scene, x):
     """Rays into the scene along ``x`` (in [0, 1)) and the BSDF of what they hit: virtual calls
     over shapes and BSDFs."""
-    ray = mi.Ray3f(mi.Point3f(0, 0, 3.9), dr.normalize(mi.Vector3f(x - 0.5, 0.1, -1)))
-    si = scene.ray_intersect(ray)
+    si = scene.ray_intersect(_ray(x))
     value = si.bsdf().eval(mi.BSDFContext(), si, si.to_local(dr.normalize(mi.Vector3f(0, 1, 1))), si.is_valid())
     return dr.select(si.is_valid(), si.t + value.x, 0.0) + x
 
@@ -91,7 +95,7 @@ def test_a_scene_loaded_after_the_snapshot_has_it_taken_again():
 
 def _distance(scene, x):
     """What ``_shade`` traces, without the BSDF: no BSDF variable is read."""
-    return scene.ray_intersect(mi.Ray3f(mi.Point3f(0, 0, 3.9), dr.normalize(mi.Vector3f(x - 0.5, 0.1, -1)))).t + x
+    return scene.ray_intersect(_ray(x)).t + x
 
 
 def test_a_recording_that_reads_beyond_the_read_set_takes_the_whole_snapshot():
