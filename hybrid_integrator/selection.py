@@ -84,7 +84,12 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
     return Selection(traced=traced & valid, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags))
 
 
-def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
+#: lanes per block of the compaction's first-level prefix sums (``compact``): the largest block
+#: that Dr.Jit's CUDA backend scans in one thread block, each block on its own
+SCAN_BLOCK = 1024
+
+
+def compact(mask: mi.Bool, *first: mi.Bool | None, two_level: bool | None = None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
     the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
     arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
@@ -95,6 +100,15 @@ def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, 
     one integer per lane (a field of ``bits`` holds any count up to the width), so that one prefix
     sum numbers every part: each prefix sum is a kernel and a scan more in every replay of the
     frozen pass, before its trace launches (three parts of a 1280×720 frame: one 64-bit sum).
+
+    On CUDA the prefix sum has two levels: each block of ``SCAN_BLOCK`` lanes is scanned on its own
+    (``dr.block_prefix_sum``), the blocks' totals (``dr.block_sum``; 900 for 1280×720) are scanned,
+    and a lane adds its block's offset. Dr.Jit's one scan over the whole width (``dr.prefix_sum``)
+    chains its 900 thread blocks, each waiting for the sums of those before it: on an H200,
+    0.039 ms for one part and 0.063–0.065 ms for three, against 0.011 + 0.005 + 0.004 ms for the
+    two levels (docs/results/gpu/issue10/stop39/probe.log). On the LLVM backend the one scan is
+    the faster (57,600 lanes: 0.048 against 0.061 ms of kernels on this project's CPU); ``two_level``
+    (default: on CUDA) chooses.
     Returns (index, lane active, slot of each set lane); the index of a lane past n is unspecified.
     """
     parts, rest = [], mask
@@ -105,7 +119,10 @@ def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, 
     width = dr.width(mask)
     bits = max(width.bit_length(), 1)
     per_word = 64 // bits
-    last = mi.UInt32(width - 1)
+    lane = dr.arange(mi.UInt32, width)
+    if two_level is None:
+        two_level = dr.backend_v(mask) == dr.JitBackend.CUDA
+    two_level = two_level and width > SCAN_BLOCK
     slot, n = mi.UInt32(0), mi.UInt32(0)
     for start in range(0, len(parts), per_word):
         word = parts[start:start + per_word]
@@ -113,13 +130,21 @@ def compact(mask: mi.Bool, *first: mi.Bool | None) -> tuple[mi.UInt32, mi.Bool, 
         flags = dtype(0)
         for k, part in enumerate(word):
             flags |= dtype(part) << (bits * k)
-        within = dr.prefix_sum(flags)
-        total = dr.gather(dtype, within, last) + dr.gather(dtype, flags, last)
+        if two_level:
+            dr.eval(flags)  # the block scans read it from memory
+            totals = dr.block_sum(flags, SCAN_BLOCK)
+            offsets = dr.prefix_sum(totals)
+            last = mi.UInt32(dr.width(totals) - 1)
+            total = dr.gather(dtype, offsets, last) + dr.gather(dtype, totals, last)
+            within = dr.block_prefix_sum(flags, SCAN_BLOCK) + dr.gather(dtype, offsets, lane // SCAN_BLOCK)
+        else:
+            within = dr.prefix_sum(flags)
+            last = mi.UInt32(width - 1)
+            total = dr.gather(dtype, within, last) + dr.gather(dtype, flags, last)
         for k, part in enumerate(word):
             shift, ones = bits * k, (1 << bits) - 1
             slot = dr.select(part, n + mi.UInt32((within >> shift) & ones), slot)
             n = n + mi.UInt32((total >> shift) & ones)
-    lane = dr.arange(mi.UInt32, width)
     index = dr.empty(mi.UInt32, width)  # lanes past n: unspecified (read by none, not cleared)
     dr.scatter(index, lane, slot, mask)
     return index, lane < n, slot

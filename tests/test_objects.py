@@ -62,11 +62,14 @@ def test_an_object_inside_a_merged_mesh_can_be_the_only_candidate():
     assert traced.sum() > 0 and np.mean(mine[traced]) > 0.9  # the traced layer is filtered: its edges blur
 
 
-@pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05)])
-def test_compaction_on_the_device(n, density):
+@pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05), (5000, 0.5)])
+@pytest.mark.parametrize("two_level", [False, True])
+def test_compaction_on_the_device(n, density, two_level):
+    """One prefix sum (the LLVM backend's) or two levels (CUDA's: blocks of 1024 lanes, then their
+    totals; 5000 lanes end in a part block) give the same slots."""
     rng = np.random.default_rng(n)
     mask = rng.random(n) < density
-    index, active, slot = compact(mi.Bool(mask))
+    index, active, slot = compact(mi.Bool(mask), two_level=two_level)
     expected = np.nonzero(mask)[0]
     assert np.array_equal(np.array(active), np.arange(n) < len(expected))
     assert np.array_equal(np.array(index)[:len(expected)], expected)
@@ -202,14 +205,15 @@ def test_a_camera_path_draws_each_next_frame_ahead():
 
 @pytest.mark.parametrize("n, density", [(1, 1.0), (97, 0.3), (1000, 0.0), (4096, 0.05), (2**22 + 3, 0.5)])
 @pytest.mark.parametrize("groups", [1, 2])
-def test_compaction_puts_the_first_lanes_first(n, density, groups):
+@pytest.mark.parametrize("two_level", [False, True])
+def test_compaction_puts_the_first_lanes_first(n, density, groups, two_level):
     """With ``first`` masks, the set lanes of the first come first, then those of the second not
     in the first, then the rest, each part in pixel order (a stable partition: the trace launches
     its re-traced primaries, then its long paths, first). 2²² + 3 lanes: the parts' counts need
     23 bits each, two to a 64-bit prefix sum, so three parts take two."""
     rng = np.random.default_rng(n + 1)
     mask, first = rng.random(n) < density, [rng.random(n) < 0.4 for _ in range(groups)]
-    index, active, slot = compact(mi.Bool(mask), *(mi.Bool(f) for f in first), None)
+    index, active, slot = compact(mi.Bool(mask), *(mi.Bool(f) for f in first), None, two_level=two_level)
     taken, expected = np.zeros(n, dtype=bool), []
     for part in [*first, np.ones(n, dtype=bool)]:
         expected.append(np.nonzero(mask & part & ~taken)[0])
