@@ -3,12 +3,13 @@
 On the many-object scene (loaded as the renderer loads it: meshes batched by material,
 ``objects.py``), the camera rays' primary hits are computed once; then ``trace.trace_effects``
 (the shadow, reflection and refraction paths of the selected pixels, with the device-side
-compaction of ``selection.compact``) is frozen as the frame's device pass is (``frozen.py``: the
-scene's variables, taken once, in the scene's place; the hits' shape pointers passed as ids, as
-the device pass, which computes its hits itself, takes no pointer array),
-and called for N = 1, 10, 100 … pixels and for every hit pixel. Per N: the median wall time of a
-call with the backend synchronized once, and its device time (Dr.Jit's kernel history: CUDA events
-on the GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
+compaction of ``selection.compact``, glass pixels first on CUDA) is frozen as the frame's device
+pass is (``frozen.py``: the scene's variables, taken once, in the scene's place; the hits as flat
+handles of their variables and their shape pointers as ids, since the device pass, which computes
+its hits itself, walks neither), and called for N = 1, 10, 100 … pixels and for every hit pixel.
+Per N: the median wall time of a call with the backend synchronized once (Dr.Jit's kernel history
+off), and the device time of its kernels (a second call with the history on: CUDA events on the
+GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
 the chart draws both. On a GPU a launch lasts as long as its longest path, and the longest of N
 paths grows with ln N (Russian roulette keeps a glass path with probability up to 0.95 per
 bounce), while the lanes are too few to fill the GPU; so a second fit, c0 + c1 ln N + c2 N, is
@@ -38,22 +39,27 @@ def timed(fn, repeats: int) -> tuple[float, float]:
 
 def timed_in_turn(fns, repeats: int) -> list[tuple[float, float]]:
     """:func:`timed` of each of ``fns``, called in turn ``repeats`` times (so that a drift of the
-    host's speed reaches all of them alike)."""
+    host's speed reaches all of them alike). Each turn calls a function twice: once with Dr.Jit's
+    kernel history off, timed on the host's clock (wall), and once with it on, for the device time
+    of its kernels (the history's CUDA events, two per launch, cost host time of their own: the
+    1-pixel trace call's wall 0.254 ms without them, 0.279 with, docs/results/gpu/issue10/stop39)."""
     import drjit as dr
 
     for fn in fns:
         fn()  # compiles or records
         fn()  # a frozen function may record again with its literals made opaque
     wall, device = [[] for _ in fns], [[] for _ in fns]
-    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
-        for _ in range(repeats):
-            for k, fn in enumerate(fns):
-                dr.sync_thread()
+    for _ in range(repeats):
+        for k, fn in enumerate(fns):
+            dr.sync_thread()
+            start = time.perf_counter()
+            dr.eval(fn())
+            dr.sync_thread()
+            wall[k].append((time.perf_counter() - start) * 1e3)
+            with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
                 dr.kernel_history_clear()
-                start = time.perf_counter()
                 dr.eval(fn())
                 dr.sync_thread()
-                wall[k].append((time.perf_counter() - start) * 1e3)
                 device[k].append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
     return [(statistics.median(w), statistics.median(d)) for w, d in zip(wall, device)]
 
@@ -101,6 +107,7 @@ def main() -> None:
     from hybrid_integrator.frozen import FrozenScene
     from hybrid_integrator.primary import camera_rays, traced_hits
     from hybrid_integrator.raster.context import machine
+    from hybrid_integrator.selection import long_paths
     from hybrid_integrator.trace import trace_effects
 
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
@@ -110,18 +117,29 @@ def main() -> None:
     order = np.nonzero(np.array(hits.valid))[0]
     effects = ("shadow", "reflection", "refraction")
 
-    # the hits without their pointer fields, which travel as ids: in a frame the trace runs inside
-    # the device pass, whose inputs hold no pointer array (one among a frozen function's inputs
-    # makes Dr.Jit 1.5 walk every registered instance of its class on each call: frozen.py)
+    # the hits as flat handles of their variables, as frozen.FrozenScene passes the scene's: the
+    # replay walks a SurfaceInteraction3f's nested arrays at about twice the cost per variable of a
+    # flat tuple (docs/results/gpu/issue10/stop39: the 52 variables 0.052 ms), a walk the frame's
+    # device pass, whose hits are its own intermediates, never makes; the pointer fields travel
+    # as ids (a pointer array among a frozen function's inputs makes Dr.Jit 1.5 walk every
+    # registered instance of its class on each call: frozen.py)
     pointers = ("shape", "instance")
-    fields = {k: getattr(hits.si, k) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT if k not in pointers}
+    types = {k: type(getattr(hits.si, k)) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT if k not in pointers}
+    leaves = dr.detail.collect_indices((hits.ray, {k: getattr(hits.si, k) for k in types}))
+    handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(leaves), leaves))
     ids = [dr.reinterpret_array(mi.UInt32, getattr(hits.si, k)) for k in pointers]
+    # glass first, as the device pass launches its traced pixels on CUDA where a candidate is glass
+    long = long_paths(hits.si.bsdf(hits.ray).flags()) if mi.variant().startswith("cuda") else None
+    dr.eval(long)
 
-    def call(scene, ray, fields, ids, traced, obj, seed):
+    def call(scene, handles, ids, traced, obj, seed, long):
+        ray, fields = dr.detail.update_indices((dr.zeros(mi.Ray3f), {k: dr.zeros(t) for k, t in types.items()}),
+                                               [h.index for h in handles])
         si = mi.SurfaceInteraction3f()
         for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
             setattr(si, k, v)
-        rt, _, counts = trace_effects(scene, ray, si, traced, effects, args.max_depth, 5, False, seed=seed, obj=obj, n_objects=n_objects)
+        rt, _, counts = trace_effects(scene, ray, si, traced, effects, args.max_depth, 5, False, seed=seed, obj=obj,
+                                      n_objects=n_objects, long=long)
         return rt, counts.per_object
 
     frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
@@ -136,12 +154,12 @@ def main() -> None:
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:
-            wall, device = timed(lambda: frozen(hits.ray, fields, ids, masks[n], hits.object, seed), args.repeats)
+            wall, device = timed(lambda: frozen(handles, ids, masks[n], hits.object, seed, long), args.repeats)
             rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
         print(sweep, rows, flush=True)
     if args.launches:
         for row in rows:
-            row["launches"] = launches(lambda: frozen(hits.ray, fields, ids, masks[row["pixels"]], hits.object, seed),
+            row["launches"] = launches(lambda: frozen(handles, ids, masks[row["pixels"]], hits.object, seed, long),
                                        args.repeats)
             print(row["pixels"], "pixels:", ", ".join(f"{e['type']}[{e['lanes']}] {e['ms']:.3f}" for e in row["launches"]),
                   flush=True)
@@ -163,7 +181,7 @@ def main() -> None:
     report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
                          f"--repeats {args.repeats} --max-depth {args.max_depth}",
               "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
-              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
+              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "glass_first": long is not None, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
               "scene_inputs": {"passed": frozen.inputs, "snapshot": len(handles),
                                "read_set": None if frozen.read is None else len(frozen.read),
                                "missed": frozen.missed}}
