@@ -113,9 +113,17 @@ def scene_variables(scene: mi.Scene) -> SceneVariables | None:
     # and the inputs' layout would change: one more recording)
     passed = set(sensor_variables)
     distinct = [index for index in dict.fromkeys(indices) if index and index not in passed]
-    handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(distinct), distinct))
+    handles = variable_handles(distinct)
     own = frozenset(indices[:of_scene]) - frozenset(indices[of_scene:])
     return SceneVariables(handles=handles, visits=len(indices), own=own)
+
+
+def variable_handles(indices) -> tuple:
+    """One ``mi.UInt32`` per Dr.Jit variable index in ``indices`` (variables of any type): a frozen
+    function's replay reads only the index of each input, so a flat tuple of these stands in for
+    the objects that hold the variables, and is walked at a fraction of their nested cost."""
+    indices = list(indices)
+    return tuple(dr.detail.update_indices([mi.UInt32(0)] * len(indices), indices))
 
 
 def _registered(domain: str) -> list | None:

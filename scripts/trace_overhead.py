@@ -104,10 +104,10 @@ def main() -> None:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator.api import rasterizer
-    from hybrid_integrator.frozen import FrozenScene
+    from hybrid_integrator.frozen import FrozenScene, variable_handles
     from hybrid_integrator.primary import camera_rays, traced_hits
     from hybrid_integrator.raster.context import machine
-    from hybrid_integrator.selection import long_paths
+    from hybrid_integrator.selection import long_paths, refracts
     from hybrid_integrator.trace import trace_effects
 
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
@@ -125,16 +125,17 @@ def main() -> None:
     # registered instance of its class on each call: frozen.py)
     pointers = ("shape", "instance")
     types = {k: type(getattr(hits.si, k)) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT if k not in pointers}
-    leaves = dr.detail.collect_indices((hits.ray, {k: getattr(hits.si, k) for k in types}))
-    handles = tuple(dr.detail.update_indices([mi.UInt32(0)] * len(leaves), leaves))
+    hit_handles = variable_handles(dr.detail.collect_indices((hits.ray, {k: getattr(hits.si, k) for k in types})))
     ids = [dr.reinterpret_array(mi.UInt32, getattr(hits.si, k)) for k in pointers]
     # glass first, as the device pass launches its traced pixels on CUDA where a candidate is glass
-    long = long_paths(hits.si.bsdf(hits.ray).flags()) if mi.variant().startswith("cuda") else None
+    # (pipeline.PassStatic.long_first; every object is a candidate here)
+    glass_first = refracts(shape.bsdf() for shape in scene.shapes()) and mi.variant().startswith("cuda")
+    long = long_paths(hits.si.bsdf(hits.ray).flags()) if glass_first else None
     dr.eval(long)
 
-    def call(scene, handles, ids, traced, obj, seed, long):
+    def call(scene, hit_handles, ids, traced, obj, seed, long):
         ray, fields = dr.detail.update_indices((dr.zeros(mi.Ray3f), {k: dr.zeros(t) for k, t in types.items()}),
-                                               [h.index for h in handles])
+                                               [h.index for h in hit_handles])
         si = mi.SurfaceInteraction3f()
         for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
             setattr(si, k, v)
@@ -154,12 +155,12 @@ def main() -> None:
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:
-            wall, device = timed(lambda: frozen(handles, ids, masks[n], hits.object, seed, long), args.repeats)
+            wall, device = timed(lambda: frozen(hit_handles, ids, masks[n], hits.object, seed, long), args.repeats)
             rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
         print(sweep, rows, flush=True)
     if args.launches:
         for row in rows:
-            row["launches"] = launches(lambda: frozen(handles, ids, masks[row["pixels"]], hits.object, seed, long),
+            row["launches"] = launches(lambda: frozen(hit_handles, ids, masks[row["pixels"]], hits.object, seed, long),
                                        args.repeats)
             print(row["pixels"], "pixels:", ", ".join(f"{e['type']}[{e['lanes']}] {e['ms']:.3f}" for e in row["launches"]),
                   flush=True)
@@ -173,16 +174,16 @@ def main() -> None:
         log_fits[key] = {"fixed_ms": float(c0), "ms_per_ln_pixels": float(c1), "ms_per_1000_pixels": float(c2 * 1e3)}
     x1 = dr.arange(mi.Float, 10)
     with_scene, given, without = dr.freeze(lambda scene, x: x + 1), dr.freeze(lambda variables, x: x + 1), dr.freeze(lambda x: x + 1)
-    handles = frozen.owner.variables.handles
+    snapshot = frozen.owner.variables.handles
     replay = {"with_scene_ms": timed(lambda: with_scene(scene, x1), args.repeats)[0],
-              "with_scene_variables_ms": timed(lambda: given(handles, x1), args.repeats)[0],
+              "with_scene_variables_ms": timed(lambda: given(snapshot, x1), args.repeats)[0],
               "with_read_set_ms": timed(lambda: given(frozen.read or (), x1), args.repeats)[0],
               "without_scene_ms": timed(lambda: without(x1), args.repeats)[0]}
     report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
                          f"--repeats {args.repeats} --max-depth {args.max_depth}",
               "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
               "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "glass_first": long is not None, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
-              "scene_inputs": {"passed": frozen.inputs, "snapshot": len(handles),
+              "scene_inputs": {"passed": frozen.inputs, "snapshot": len(snapshot),
                                "read_set": None if frozen.read is None else len(frozen.read),
                                "missed": frozen.missed}}
     args.output.parent.mkdir(parents=True, exist_ok=True)
