@@ -10,10 +10,13 @@ its hits itself, walks neither), and called for N = 1, 10, 100 … pixels and fo
 Per N: the median wall time of a call with the backend synchronized once (Dr.Jit's kernel history
 off), and the device time of its kernels (a second call with the history on: CUDA events on the
 GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
-the chart draws both. On a GPU a launch lasts as long as its longest path, and the longest of N
-paths grows with ln N (Russian roulette keeps a glass path with probability up to 0.95 per
-bounce), while the lanes are too few to fill the GPU; so a second fit, c0 + c1 ln N + c2 N, is
-reported and drawn beside the line (the x axis is logarithmic past 1). Then, for scale, the
+the chart draws both, and beside them a call that traces no pixel (``no_pixel``: the fixed part
+measured, not extrapolated). On a GPU a launch lasts as long as its longest path, while the lanes
+are too few to fill the GPU: the longest of N paths grows with ln N (Russian roulette keeps a
+glass path with probability up to 0.95 per bounce), and a path's latency depends on its
+materials (a vertex with a shadow ray costs several glass bounces; docs/results/gpu/issue10/stop40);
+so a second fit, c0 + c1 ln N + c2 N, is reported and drawn beside the line (the x axis is
+logarithmic past 1). Then, for scale, the
 replay of a frozen function that does nothing but take the scene (``lambda scene, x: x + 1``), given the scene itself (Dr.Jit walks its objects and its
 registry), its variables (``frozen.FrozenScene``'s snapshot), those the trace call's recording
 reads (its read set, which the trace call takes) or nothing.
@@ -82,6 +85,63 @@ def launches(fn, repeats: int) -> list[dict]:
             for k, (kind, lanes, _) in enumerate(runs[-1])]
 
 
+class TraceCall:
+    """The trace call this script times, on a loaded scene: the camera rays' primary hits (computed
+    once), ``order`` (the hit pixels' indices), and ``frozen``, ``trace.trace_effects`` frozen as
+    the frame's device pass is (module docstring), called by :meth:`__call__` for a mask of the
+    pixels to trace."""
+
+    def __init__(self, scene, resx: int, resy: int, max_depth: int):
+        import drjit as dr
+        import mitsuba as mi
+        import numpy as np
+
+        import hybrid_integrator as hi
+        from hybrid_integrator.api import rasterizer
+        from hybrid_integrator.frozen import FrozenScene, variable_handles
+        from hybrid_integrator.primary import camera_rays, traced_hits
+        from hybrid_integrator.selection import long_paths, refracts
+        from hybrid_integrator.trace import trace_effects
+
+        n_objects = len(hi.scene_objects(scene))
+        hits = traced_hits(scene, camera_rays(scene.sensors()[0], resx, resy, (0.5, 0.5)), rasterizer(scene).tables)
+        dr.eval(hits.ray, hits.si, hits.valid, hits.object)
+        self.hits, self.order = hits, np.nonzero(np.array(hits.valid))[0]
+        effects = ("shadow", "reflection", "refraction")
+        # the hits as flat handles of their variables, as frozen.FrozenScene passes the scene's: the
+        # replay walks a SurfaceInteraction3f's nested arrays at about twice the cost per variable of a
+        # flat tuple (docs/results/gpu/issue10/stop39: the 52 variables 0.052 ms), a walk the frame's
+        # device pass, whose hits are its own intermediates, never makes; the pointer fields travel
+        # as ids (a pointer array among a frozen function's inputs makes Dr.Jit 1.5 walk every
+        # registered instance of its class on each call: frozen.py)
+        pointers = ("shape", "instance")
+        types = {k: type(getattr(hits.si, k)) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT if k not in pointers}
+        self.hit_handles = variable_handles(dr.detail.collect_indices((hits.ray, {k: getattr(hits.si, k) for k in types})))
+        self.ids = [dr.reinterpret_array(mi.UInt32, getattr(hits.si, k)) for k in pointers]
+        # glass first, as the device pass launches its traced pixels on CUDA where a candidate is glass
+        # (pipeline.PassStatic.long_first; every object is a candidate here)
+        glass_first = refracts(shape.bsdf() for shape in scene.shapes()) and mi.variant().startswith("cuda")
+        self.long = long_paths(hits.si.bsdf(hits.ray).flags()) if glass_first else None
+        dr.eval(self.long)
+
+        def call(scene, hit_handles, ids, traced, obj, seed, long):
+            ray, fields = dr.detail.update_indices((dr.zeros(mi.Ray3f), {k: dr.zeros(t) for k, t in types.items()}),
+                                                   [h.index for h in hit_handles])
+            si = mi.SurfaceInteraction3f()
+            for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
+                setattr(si, k, v)
+            rt, _, counts = trace_effects(scene, ray, si, traced, effects, max_depth, 5, False, seed=seed, obj=obj,
+                                          n_objects=n_objects, long=long)
+            return rt, counts.per_object
+
+        self.frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
+        self.seed = dr.opaque(mi.UInt64, 1)
+
+    def __call__(self, traced):
+        """One call tracing the pixels of ``traced`` (a ``mi.Bool`` per pixel)."""
+        return self.frozen(self.hit_handles, self.ids, traced, self.hits.object, self.seed, self.long)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--variant", default="llvm_ad_rgb")
@@ -103,65 +163,32 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
-    from hybrid_integrator.api import rasterizer
-    from hybrid_integrator.frozen import FrozenScene, variable_handles
-    from hybrid_integrator.primary import camera_rays, traced_hits
     from hybrid_integrator.raster.context import machine
-    from hybrid_integrator.selection import long_paths, refracts
-    from hybrid_integrator.trace import trace_effects
 
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
-    n_objects = len(hi.scene_objects(scene))
-    hits = traced_hits(scene, camera_rays(scene.sensors()[0], args.resx, args.resy, (0.5, 0.5)), rasterizer(scene).tables)
-    dr.eval(hits.ray, hits.si, hits.valid, hits.object)
-    order = np.nonzero(np.array(hits.valid))[0]
-    effects = ("shadow", "reflection", "refraction")
-
-    # the hits as flat handles of their variables, as frozen.FrozenScene passes the scene's: the
-    # replay walks a SurfaceInteraction3f's nested arrays at about twice the cost per variable of a
-    # flat tuple (docs/results/gpu/issue10/stop39: the 52 variables 0.052 ms), a walk the frame's
-    # device pass, whose hits are its own intermediates, never makes; the pointer fields travel
-    # as ids (a pointer array among a frozen function's inputs makes Dr.Jit 1.5 walk every
-    # registered instance of its class on each call: frozen.py)
-    pointers = ("shape", "instance")
-    types = {k: type(getattr(hits.si, k)) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT if k not in pointers}
-    hit_handles = variable_handles(dr.detail.collect_indices((hits.ray, {k: getattr(hits.si, k) for k in types})))
-    ids = [dr.reinterpret_array(mi.UInt32, getattr(hits.si, k)) for k in pointers]
-    # glass first, as the device pass launches its traced pixels on CUDA where a candidate is glass
-    # (pipeline.PassStatic.long_first; every object is a candidate here)
-    glass_first = refracts(shape.bsdf() for shape in scene.shapes()) and mi.variant().startswith("cuda")
-    long = long_paths(hits.si.bsdf(hits.ray).flags()) if glass_first else None
-    dr.eval(long)
-
-    def call(scene, hit_handles, ids, traced, obj, seed, long):
-        ray, fields = dr.detail.update_indices((dr.zeros(mi.Ray3f), {k: dr.zeros(t) for k, t in types.items()}),
-                                               [h.index for h in hit_handles])
-        si = mi.SurfaceInteraction3f()
-        for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
-            setattr(si, k, v)
-        rt, _, counts = trace_effects(scene, ray, si, traced, effects, args.max_depth, 5, False, seed=seed, obj=obj,
-                                      n_objects=n_objects, long=long)
-        return rt, counts.per_object
-
-    frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
-    seed = dr.opaque(mi.UInt64, 1)
+    trace = TraceCall(scene, args.resx, args.resy, args.max_depth)
+    n_objects, order, frozen = len(hi.scene_objects(scene)), trace.order, trace.frozen
     counts = [n for n in (1, 10, 100, 1000, 10000, 100000) if n < len(order)] + [len(order)]
     masks = {}
     for n in counts:
-        chosen = np.zeros(dr.width(hits.valid), dtype=bool)
+        chosen = np.zeros(dr.width(trace.hits.valid), dtype=bool)
         chosen[order[:n]] = True
         masks[n] = mi.Bool(chosen)
         dr.eval(masks[n])
+    # a call that traces no pixel: the fixed part itself (the replay, every launch, the path loop's
+    # launch over lanes that all stop at once), measured rather than extrapolated
+    nothing = dr.zeros(mi.Bool, dr.width(trace.hits.valid))
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:
-            wall, device = timed(lambda: frozen(hit_handles, ids, masks[n], hits.object, seed, long), args.repeats)
+            wall, device = timed(lambda: trace(masks[n]), args.repeats)
             rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
-        print(sweep, rows, flush=True)
+        wall, device = timed(lambda: trace(nothing), args.repeats)
+        empty = {"wall_ms": wall, "device_ms": device}
+        print(sweep, rows, "no pixel:", empty, flush=True)
     if args.launches:
         for row in rows:
-            row["launches"] = launches(lambda: frozen(hit_handles, ids, masks[row["pixels"]], hits.object, seed, long),
-                                       args.repeats)
+            row["launches"] = launches(lambda: trace(masks[row["pixels"]]), args.repeats)
             print(row["pixels"], "pixels:", ", ".join(f"{e['type']}[{e['lanes']}] {e['ms']:.3f}" for e in row["launches"]),
                   flush=True)
     x = np.array([r["pixels"] for r in rows], dtype=np.float64)
@@ -182,14 +209,14 @@ def main() -> None:
     report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
                          f"--repeats {args.repeats} --max-depth {args.max_depth}",
               "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
-              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "glass_first": long is not None, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
+              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "glass_first": trace.long is not None, "no_pixel": empty, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
               "scene_inputs": {"passed": frozen.inputs, "snapshot": len(snapshot),
                                "read_set": None if frozen.read is None else len(frozen.read),
                                "missed": frozen.missed}}
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps(report, indent=2))
     _chart(args.output.with_suffix(".png"), rows, fits, log_fits, report)
-    print(json.dumps({k: report[k] for k in ("fit", "fit_with_log_term", "frozen_replay", "scene_inputs", "objects", "shapes")}, indent=2))
+    print(json.dumps({k: report[k] for k in ("no_pixel", "fit", "fit_with_log_term", "frozen_replay", "scene_inputs", "objects", "shapes")}, indent=2))
 
 
 def _chart(path: Path, rows: list[dict], fits: dict, log_fits: dict, report: dict) -> None:
@@ -203,6 +230,8 @@ def _chart(path: Path, rows: list[dict], fits: dict, log_fits: dict, report: dic
     fig, ax = plt.subplots(figsize=(6.5, 4))
     for key, label in (("wall_ms", "wall, one sync per call"), ("device_ms", "device (kernel history)")):
         line = ax.plot(x, [r[key] for r in rows], "o", label=label)[0]
+        ax.plot([0.0], [report["no_pixel"][key]], "s", color=line.get_color(), mfc="none",
+                label=f"no pixel: {report['no_pixel'][key]:.3f} ms")
         fit = fits[key]
         xs = np.r_[0.0, np.geomspace(1, x.max(), 100)]
         ax.plot(xs, fit["fixed_ms"] + fit["ms_per_1000_pixels"] * xs / 1e3, "-", color=line.get_color(), alpha=0.6,
