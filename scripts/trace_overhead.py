@@ -176,8 +176,11 @@ def main() -> None:
         masks[n] = mi.Bool(chosen)
         dr.eval(masks[n])
     # a call that traces no pixel: the fixed part itself (the replay, every launch, the path loop's
-    # launch over lanes that all stop at once), measured rather than extrapolated
-    nothing = dr.zeros(mi.Bool, dr.width(trace.hits.valid))
+    # launch over lanes that all stop at once), measured rather than extrapolated. Its mask is an
+    # evaluated array like the others: a literal (dr.zeros) would be baked into a recording of its
+    # own, whose kernels know that nothing is traced
+    nothing = mi.Bool(np.zeros(dr.width(trace.hits.valid), dtype=bool))
+    dr.eval(nothing)
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:
