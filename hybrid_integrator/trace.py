@@ -234,11 +234,9 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
     active_next = p.active & si.is_valid() & (p.depth + 1 < depth_limit)
     masks = [None] if config is None else [config == k for k in range(len(lobes))]
 
-    def within(mask, active):
-        return active if mask is None else active & mask
-
     if len(scene.emitters()) > 0:
-        nee = active_next & mi.has_flag(bsdf.flags(), mi.BSDFFlags.Smooth)
+        flags = bsdf.flags()
+        nee = active_next & mi.has_flag(flags, mi.BSDFFlags.Smooth)
         sample = mi.Point2f(p.rng.next_float32(), p.rng.next_float32())  # drawn by every lane, as before
         # a branch (Dr.Jit's symbolic if), not masked code: a warp none of whose lanes samples an
         # emitter (lanes on delta BSDFs: glass, mirrors; finished paths; lanes that are there for
@@ -248,7 +246,7 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
         # stage on the showcase, whose launch holds every pixel's primary lane, 0.4 ms on average
         # (docs/results/gpu/issue10/stop40)
         light, shadow_rays = dr.if_stmt((p.beta, sample), nee,
-                                        lambda beta, sample: _direct(scene, si, bsdf, beta, sample, nee, masks, lobes),
+                                        lambda beta, sample: _direct(scene, si, bsdf, flags, beta, sample, nee, masks, lobes),
                                         lambda beta, sample: (dr.zeros(mi.Color3f), mi.UInt32(0)), label="direct light")
         p.L += light
         p.rays[0] += shadow_rays
@@ -264,7 +262,7 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
             continue
         ctx_follow = mi.BSDFContext()
         ctx_follow.type_mask = lobe.follow
-        bs_k, weight_k = bsdf.sample(ctx_follow, si, sample1, sample2, within(mask, active_next))
+        bs_k, weight_k = bsdf.sample(ctx_follow, si, sample1, sample2, _within(mask, active_next))
         bs = bs_k if bs is None else dr.select(mask, bs_k, bs)
         weight = weight_k if weight is None else dr.select(mask, weight_k, weight)
     if followed is not True:
@@ -291,10 +289,15 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
     p.active = active_next
 
 
-def _direct(scene: mi.Scene, si: mi.SurfaceInteraction3f, bsdf: mi.BSDFPtr, beta: mi.Color3f, sample: mi.Point2f,
-            nee: mi.Bool, masks: list, lobes: tuple[Lobes, ...]) -> tuple[mi.Color3f, mi.UInt32]:
-    """Direct light at a vertex by emitter sampling (``nee``: the lanes whose BSDF has a smooth
-    lobe), as ``path``: a shadow ray where the lane's ``lobes`` cast one (unshadowed light
+def _within(mask: mi.Bool | None, active):
+    """``active`` restricted to the lanes of ``mask`` (None: every lane)."""
+    return active if mask is None else active & mask
+
+
+def _direct(scene: mi.Scene, si: mi.SurfaceInteraction3f, bsdf: mi.BSDFPtr, flags: mi.UInt32, beta: mi.Color3f,
+            sample: mi.Point2f, nee: mi.Bool, masks: list, lobes: tuple[Lobes, ...]) -> tuple[mi.Color3f, mi.UInt32]:
+    """Direct light at a vertex by emitter sampling (``nee``: the lanes whose BSDF, of ``flags``,
+    has a smooth lobe), as ``path``: a shadow ray where the lane's ``lobes`` cast one (unshadowed light
     otherwise), the BSDF's smooth lobes that are not followed evaluated alone, those followed
     MIS-weighted against BSDF sampling. Returns the light (times the path's throughput ``beta``)
     and the shadow rays cast (0 or 1 per lane)."""
@@ -308,9 +311,9 @@ def _direct(scene: mi.Scene, si: mi.SurfaceInteraction3f, bsdf: mi.BSDFPtr, beta
     wo = si.to_local(ds.d)
     value = dr.zeros(mi.Color3f, dr.width(nee))
     # only lanes whose BSDF has a smooth lobe of a kind call its evaluation (delta lobes add nothing)
-    smooth = bsdf.flags() & int(mi.BSDFFlags.Smooth)
+    smooth = flags & int(mi.BSDFFlags.Smooth)
     for mask, lobe in zip(masks, lobes):
-        active = nee if mask is None else nee & mask
+        active = _within(mask, nee)
         v = dr.zeros(mi.Color3f, dr.width(nee))
         rest = int(mi.BSDFFlags.Smooth) & ~lobe.follow  # smooth lobes left to emitter sampling alone
         if rest:

@@ -103,7 +103,7 @@ class TraceCall:
         from hybrid_integrator.selection import long_paths, refracts
         from hybrid_integrator.trace import trace_effects
 
-        n_objects = len(hi.scene_objects(scene))
+        self.n_objects = n_objects = len(hi.scene_objects(scene))
         hits = traced_hits(scene, camera_rays(scene.sensors()[0], resx, resy, (0.5, 0.5)), rasterizer(scene).tables)
         dr.eval(hits.ray, hits.si, hits.valid, hits.object)
         self.hits, self.order = hits, np.nonzero(np.array(hits.valid))[0]
@@ -137,21 +137,40 @@ class TraceCall:
         self.frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
         self.seed = dr.opaque(mi.UInt64, 1)
 
+    def mask(self, pixels):
+        """A call's argument tracing ``pixels`` (indices; none: a call that traces nothing), an
+        evaluated array as every call's: a literal (``dr.zeros``) would be baked into a recording
+        of its own, whose kernels know what is traced."""
+        import drjit as dr
+        import mitsuba as mi
+        import numpy as np
+
+        chosen = np.zeros(dr.width(self.hits.valid), dtype=bool)
+        chosen[pixels] = True
+        mask = mi.Bool(chosen)
+        dr.eval(mask)
+        return mask
+
     def __call__(self, traced):
-        """One call tracing the pixels of ``traced`` (a ``mi.Bool`` per pixel)."""
+        """One call tracing the pixels of ``traced`` (a ``mi.Bool`` per pixel: :meth:`mask`)."""
         return self.frozen(self.hit_handles, self.ids, traced, self.hits.object, self.seed, self.long)
+
+
+def add_arguments(parser, repeats: int = 41) -> None:
+    """The options of a run of :class:`TraceCall`: variant, resolution, repeats, max_depth."""
+    parser.add_argument("--variant", default="llvm_ad_rgb")
+    parser.add_argument("--resx", type=int, default=320)
+    parser.add_argument("--resy", type=int, default=180)
+    parser.add_argument("--repeats", type=int, default=repeats)
+    parser.add_argument("--max-depth", type=int, default=-1,
+                        help="the paths' max_depth (default -1: unlimited, the integrator's default; "
+                             "many_objects.xml's own integrator says 6)")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--variant", default="llvm_ad_rgb")
+    add_arguments(parser)
     parser.add_argument("--scene", type=Path, default=ROOT / "scenes/many_objects.xml")
-    parser.add_argument("--resx", type=int, default=320)
-    parser.add_argument("--resy", type=int, default=180)
-    parser.add_argument("--repeats", type=int, default=41)
-    parser.add_argument("--max-depth", type=int, default=-1,
-                        help="the paths' max_depth (default -1: unlimited, the integrator's default; "
-                             "many_objects.xml's own integrator says 6)")
     parser.add_argument("--launches", action="store_true",
                         help="also print each launch's device time per number of pixels (what grows with it)")
     parser.add_argument("-o", "--output", type=Path, required=True)
@@ -167,20 +186,12 @@ def main() -> None:
 
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
     trace = TraceCall(scene, args.resx, args.resy, args.max_depth)
-    n_objects, order, frozen = len(hi.scene_objects(scene)), trace.order, trace.frozen
+    n_objects, order, frozen = trace.n_objects, trace.order, trace.frozen
     counts = [n for n in (1, 10, 100, 1000, 10000, 100000) if n < len(order)] + [len(order)]
-    masks = {}
-    for n in counts:
-        chosen = np.zeros(dr.width(trace.hits.valid), dtype=bool)
-        chosen[order[:n]] = True
-        masks[n] = mi.Bool(chosen)
-        dr.eval(masks[n])
+    masks = {n: trace.mask(order[:n]) for n in counts}
     # a call that traces no pixel: the fixed part itself (the replay, every launch, the path loop's
-    # launch over lanes that all stop at once), measured rather than extrapolated. Its mask is an
-    # evaluated array like the others: a literal (dr.zeros) would be baked into a recording of its
-    # own, whose kernels know that nothing is traced
-    nothing = mi.Bool(np.zeros(dr.width(trace.hits.valid), dtype=bool))
-    dr.eval(nothing)
+    # launch over lanes that all stop at once), measured rather than extrapolated
+    nothing = trace.mask([])
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
         rows = []
         for n in counts:

@@ -10,16 +10,7 @@ for round in $(seq ${1:-3}); do
   for depth in 6 -1; do
     PYTHONPATH=/tmp/site:/tmp/extra:$PWD python3 scripts/trace_overhead.py --variant cuda_ad_rgb --resx 1280 --resy 720 \
       --max-depth=$depth -o $R/d${depth}_$round/trace_overhead > $R/d${depth}_$round.log 2>&1
-    echo "max_depth $depth round $round rc=$?"; python3 - $R/d${depth}_$round/trace_overhead.json <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))
-print("  fit", {k: (round(v["fixed_ms"], 3), round(v["ms_per_1000_pixels"], 4)) for k, v in r["fit"].items()})
-print("  log fit", {k: tuple(round(v[f], 4) for f in ("fixed_ms", "ms_per_ln_pixels", "ms_per_1000_pixels"))
-                    for k, v in r["fit_with_log_term"].items()})
-print("  rows", [(x["pixels"], round(x["wall_ms"], 3), round(x["device_ms"], 3)) for x in r["rows"]])
-if "no_pixel" in r:
-    print("  no pixel", {k: round(v, 3) for k, v in r["no_pixel"].items()})
-PY
+    echo "max_depth $depth round $round rc=$?"; python3 docs/results/gpu/issue10/stop40/summary.py $R/d${depth}_$round/trace_overhead.json
   done
 done
 tar -cJf $OUT/depth/outputs.tar.xz -C /tmp depth

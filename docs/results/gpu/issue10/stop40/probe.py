@@ -14,14 +14,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[5]
 sys.path.insert(0, str(ROOT / "scripts"))
-from trace_overhead import TraceCall, launches, timed  # noqa: E402
+from trace_overhead import TraceCall, add_arguments, launches, timed  # noqa: E402
 
 parser = argparse.ArgumentParser()
-parser.add_argument("--variant", default="llvm_ad_rgb")
-parser.add_argument("--resx", type=int, default=320)
-parser.add_argument("--resy", type=int, default=180)
-parser.add_argument("--repeats", type=int, default=21)
-parser.add_argument("--max-depth", type=int, default=-1)
+add_arguments(parser, repeats=21)
 args = parser.parse_args()
 
 import drjit as dr
@@ -53,10 +49,7 @@ for n in (10, 100, 1000):
 print(f"max_depth {args.max_depth}; diffuse object {diffuse_obj} ({counts[diffuse_obj]} px), glass object {glass_obj} ({counts[glass_obj]} px)")
 print(f"{'set':26s} {'px':>5s} {'bsdfs':>5s} {'objs':>5s} {'glass':>5s} {'loop ms':>8s} {'device':>7s} {'wall':>7s}")
 for name, pixels in sets.items():
-    chosen = np.zeros(width, bool)
-    chosen[pixels] = True
-    mask = mi.Bool(chosen)
-    dr.eval(mask)
+    mask = trace.mask(pixels)
     wall, device = timed(lambda: trace(mask), args.repeats)
     loop = max(e["ms"] for e in launches(lambda: trace(mask), args.repeats))
     print(f"{name:26s} {len(pixels):5d} {len(set(bsdf[pixels])):5d} {len(set(obj[pixels])):5d} "

@@ -13,15 +13,7 @@ for round in $(seq ${1:-3}); do
     case $way in new) tree=$ROOT;; old) tree=$ROOT/.w40;; esac
     (cd $tree && PYTHONPATH=/tmp/site:/tmp/extra:$tree python3 scripts/trace_overhead.py --variant cuda_ad_rgb \
       --resx 1280 --resy 720 --launches -o $R/${way}_$round/trace_overhead > $R/${way}_$round.log 2>&1)
-    echo "$way $round rc=$?"; python3 - $R/${way}_$round/trace_overhead.json <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))
-print("  fit", {k: (round(v["fixed_ms"], 3), round(v["ms_per_1000_pixels"], 4)) for k, v in r["fit"].items()})
-print("  log fit", {k: tuple(round(v[f], 4) for f in ("fixed_ms", "ms_per_ln_pixels", "ms_per_1000_pixels"))
-                    for k, v in r["fit_with_log_term"].items()})
-print("  rows", [(x["pixels"], round(x["wall_ms"], 3), round(x["device_ms"], 3)) for x in r["rows"]])
-print("  loop", [(x["pixels"], round(max(e["ms"] for e in x["launches"]), 4)) for x in r["rows"]])
-PY
+    echo "$way $round rc=$?"; python3 docs/results/gpu/issue10/stop40/summary.py $R/${way}_$round/trace_overhead.json
   done
 done
 tar -cJf $OUT/trace_ab/outputs.tar.xz -C /tmp trace_ab
