@@ -2,10 +2,10 @@
 compare this stop's trace code with 93a4593 bit for bit. Run from each tree:
     .venv/bin/python docs/results/gpu/issue10/stop40/same_images.py /tmp/new.npz
     cd .w40 && PYTHONPATH=$PWD ../.venv/bin/python ../docs/results/gpu/issue10/stop40/same_images.py /tmp/old.npz
-then np.array_equal on each key."""
+then np.array_equal on each key. A second argument names another variant (stop 41: cuda_ad_rgb)."""
 import sys, numpy as np, time
 import mitsuba as mi, drjit as dr
-mi.set_variant("llvm_ad_rgb")
+mi.set_variant(sys.argv[2] if len(sys.argv) > 2 else "llvm_ad_rgb")
 import hybrid_integrator as hi
 print(hi.__file__)
 out = {}
