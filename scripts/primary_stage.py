@@ -9,6 +9,18 @@ the lighting):
   ``outline`` test, ``primary.OUTLINES``) traced in the same kernel, masked;
 - ``camera rays``: ``primary.traced_hits``, every pixel's camera ray traced (the RT baseline).
 
+With ``--parts``, the raster's kernel as the GPU's device pass makes it (``refine="trace"``: its
+refined pixels left for the trace launch, ``primary.raster_hits``) is timed in parts, each
+function adding a step to the one before, all evaluating what the device pass's primary stage
+evaluates where they reach it:
+
+- ``rays``: the camera rays with their differentials (which ``ties`` measures pixels with);
+- ``resolve``: + the visibility buffer's triangles intersected with them (``primary.resolve``);
+- ``outline``: + the ``ties`` test on the outline pixels (``primary.raster_intersections``);
+- ``interactions``: + Mitsuba's surface interactions (``primary.raster_hits``, the whole kernel);
+- ``camera rays (all)``: ``traced_hits`` with every field the RT baseline's primary stage evaluates;
+- ``camera rays (ray only)``: its ``ray_intersect_preliminary`` alone.
+
 Per function: the median device time of its kernels (Dr.Jit's kernel history, CUDA events on the
 GPU) and the median wall time of a call synchronized once, over ``--repeats`` calls, taken in
 turn. (Stop 28 also timed the refined rays compacted into a launch of their own, commit df7581b:
@@ -33,6 +45,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=41)
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     parser.add_argument("-o", "--output", type=Path, default=None)
+    parser.add_argument("--parts", action="store_true", help="time the raster's kernel in parts (module docstring)")
     args = parser.parse_args()
 
     import drjit as dr
@@ -43,7 +56,8 @@ def main() -> None:
     from hybrid_integrator.api import rasterizer
     from hybrid_integrator.bench import load_bench_scene
     from hybrid_integrator.frozen import FrozenScene
-    from hybrid_integrator.primary import camera_rays, primary_hits, traced_hits
+    from hybrid_integrator.primary import (camera_rays, primary_hits, raster_hits, raster_intersections, resolve,
+                                           traced_hits)
     from hybrid_integrator.raster.camera import RasterCamera
 
     params = dict(d.split("=", 1) for d in args.defines)
@@ -67,16 +81,59 @@ def main() -> None:
             hits = traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid
 
+        def evaluated(hits):
+            """what the device pass's primary stage evaluates (pipeline.device_pass), the pointer
+            fields as their ids: a frozen function's pointer outputs abort Dr.Jit 1.5"""
+            si = {k: getattr(hits.si, k) for k in mi.SurfaceInteraction3f.DRJIT_STRUCT}
+            si.update({k: dr.reinterpret_array(mi.UInt32, si[k]) for k in ("shape", "instance")})
+            return hits.ray, si, hits.shape, hits.object, hits.valid, hits.refined
+
+        def rays(scene, sensor):
+            ray = camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
+            return mi.Ray3f(ray)
+
+        def resolved(scene, sensor, ids, tables):
+            ray = camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
+            record = resolve(ids, ray, tables)
+            return mi.Ray3f(ray), record.hit, record.shape, record.object, record.prim, record.t, record.uv
+
+        def outlined(scene, sensor, ids, tables):
+            ray = camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
+            found, refined = raster_intersections(scene, ray, ids, w, h, tables, "ties")
+            pi = found.pi
+            return (mi.Ray3f(ray), pi.t, pi.prim_uv, pi.prim_index, dr.reinterpret_array(mi.UInt32, pi.shape), found.shape,
+                    found.object, found.valid, refined)
+
+        def interactions(scene, sensor, ids, tables):
+            return evaluated(raster_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5), differentials=True), ids, w, h,
+                                         tables, "ties"))
+
+        def camera_all(scene, sensor, tables):
+            return evaluated(traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables))
+
+        def camera_ray_only(scene, sensor):
+            pi = scene.ray_intersect_preliminary(camera_rays(sensor, w, h, (0.5, 0.5)), False)
+            return pi.t, pi.prim_uv, pi.prim_index, dr.reinterpret_array(mi.UInt32, pi.shape)
+
         frozen = FrozenScene(scene)  # as the device pass is frozen: the scene's variables in its place
-        runs = {outline: (frozen.freeze(functools.partial(hits_of, outline=outline)), (sensor, ids, tables))
-                for outline in ("ties", "silhouettes")}
-        runs["camera rays"] = (frozen.freeze(rays_of), (sensor, tables))
+        if args.parts:
+            runs = {"rays": (frozen.freeze(rays), (sensor,)),
+                    "resolve": (frozen.freeze(resolved), (sensor, ids, tables)),
+                    "outline": (frozen.freeze(outlined), (sensor, ids, tables)),
+                    "interactions": (frozen.freeze(interactions), (sensor, ids, tables)),
+                    "camera rays (all)": (frozen.freeze(camera_all), (sensor, tables)),
+                    "camera rays (ray only)": (frozen.freeze(camera_ray_only), (sensor,))}
+        else:
+            runs = {outline: (frozen.freeze(functools.partial(hits_of, outline=outline)), (sensor, ids, tables))
+                    for outline in ("ties", "silhouettes")}
+            runs["camera rays"] = (frozen.freeze(rays_of), (sensor, tables))
         times = timed_in_turn([lambda fn=fn, inputs=inputs: fn(*inputs) for fn, inputs in runs.values()], args.repeats)
-        refined = {k: int(np.count_nonzero(np.array(runs[k][0](*runs[k][1])[-1]))) for k in ("ties", "silhouettes")}
+        refined = {k: int(np.count_nonzero(np.array(runs[k][0](*runs[k][1])[-1])))
+                   for k in (("outline",) if args.parts else ("ties", "silhouettes"))}
         lines.append(f"{name} ({w}×{h}, refined pixels: "
                      + ", ".join(f"{k} {n} ({n / (w * h):.2%})" for k, n in refined.items()) + ")")
         for k, (wall, device) in zip(runs, times):
-            lines.append(f"  {k:12s} device {device:.3f} ms, wall {wall:.3f} ms")
+            lines.append(f"  {k:22s} device {device:.3f} ms, wall {wall:.3f} ms")
     text = "\n".join(lines)
     print(text)
     if args.output:
