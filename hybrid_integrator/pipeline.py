@@ -718,8 +718,8 @@ class HybridRenderer:
             clock.lap("sync")
             learnt = self._account(settings, frame, plan, state, [PassCounts.read(w, len(self.objects)) for w in words],
                                    clock)
-            # the visibility targets back to OpenGL (interop's unmap, behind this frame's work on a
-            # stream of its own) now, where the host waits for the GPU, not in the next frame's raster pass
+            # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
+            # frame's work) now, where the host waits for the GPU, not in the next frame's raster pass
             self.raster.release()
             # then the next frame's raster pass, which OpenGL runs once this frame's work is done
             self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
@@ -898,7 +898,7 @@ class HybridRenderer:
         as the frame before, for the same set-up).
 
         It is issued after the frame's targets are handed back to OpenGL (``Rasterizer.release``:
-        on the GPU, interop's unmap behind Dr.Jit's stream, which orders OpenGL's later work on the
+        on the GPU, interop's unmap on Dr.Jit's stream, which orders OpenGL's later work on the
         target after all of this frame's CUDA work), so OpenGL runs it once the GPU is done with
         this frame: the host issues it while the GPU still develops and denoises, and the next
         frame starts from its interop copy, with OpenGL's host issue and the switch between the

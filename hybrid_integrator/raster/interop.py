@@ -11,9 +11,7 @@ it). The texture stays mapped after the copy until the frame's work is issued
 (:meth:`Readback.release`, which the renderer calls at the end of each frame, where the host waits
 for the GPU, and the rasterizer before it draws or reads): unmapped right after the copy, the
 unmap held up the kernels issued after it, and DR frames took 0.2–0.5 ms longer on the H100 where
-the GPU, not the host, bounds them (``docs/results/gpu/issue10/unmap``). The unmap is issued on a
-stream of its own that waits for Dr.Jit's (:meth:`_Driver.behind`): OpenGL's next pass still
-follows all of the frame's work, and the frame's synchronization no longer waits for the unmap.
+the GPU, not the host, bounds them (``docs/results/gpu/issue10/unmap``).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``
@@ -104,7 +102,6 @@ class _Driver:
         self._check(self.lib.cuDevicePrimaryCtxRetain(ctypes.byref(self.context), 0), "cuDevicePrimaryCtxRetain")
         dr.eval(mi.UInt32(0))  # Dr.Jit's CUDA backend (and its stream) exist from here on
         self.stream = drjit_stream()
-        self._behind: tuple[ctypes.c_void_p, ctypes.c_void_p] | None = None  # (stream, event): behind()
 
     @staticmethod
     def _check(code: int, call: str) -> None:
@@ -126,21 +123,6 @@ class _Driver:
             for target, source in pairs:
                 self.call_current("cuMemcpyDtoDAsync_v2", ctypes.c_uint64(target), ctypes.c_uint64(source),
                                   ctypes.c_size_t(nbytes), self.stream)
-
-    def behind(self) -> ctypes.c_void_p:
-        """A stream of its own whose next work waits, on the GPU, for everything issued on
-        Dr.Jit's stream so far (an event recorded there): work that must follow the frame's
-        without Dr.Jit's stream, hence the frame's synchronization, waiting for it in turn."""
-        with self.current():
-            if self._behind is None:
-                stream, event = ctypes.c_void_p(), ctypes.c_void_p()
-                self.call_current("cuStreamCreate", ctypes.byref(stream), ctypes.c_uint(1))  # CU_STREAM_NON_BLOCKING
-                self.call_current("cuEventCreate", ctypes.byref(event), ctypes.c_uint(2))  # CU_EVENT_DISABLE_TIMING
-                self._behind = (stream, event)
-            stream, event = self._behind
-            self.call_current("cuEventRecord", event, self.stream)
-            self.call_current("cuStreamWaitEvent", stream, event, ctypes.c_uint(0))
-        return stream
 
     @contextlib.contextmanager
     def current(self):
@@ -196,15 +178,11 @@ class _SharedImage:
         return out
 
     def release(self) -> None:
-        """Unmap, behind all the work issued on Dr.Jit's stream so far (:meth:`_Driver.behind`):
-        OpenGL's next commands on the texture wait for the copies issued before, and for the rest
-        of the frame's work (a raster pass drawn ahead for the next frame runs once the GPU is
-        done with this one). Not on Dr.Jit's stream itself: there the unmap's own time on the
-        GPU (the handoff to OpenGL) came after the frame's last kernel, and the frame's
-        synchronization waited for it (0.12-0.14 ms on the H200, docs/results/gpu/issue10/stop41)."""
+        """Unmap, on Dr.Jit's stream: OpenGL's next commands on the texture wait for the copies
+        issued before."""
         if self.mapped:
             self.mapped = False
-            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), self.driver.behind())
+            self.driver.call("cuGraphicsUnmapResources", 1, ctypes.byref(self.resource), self.driver.stream)
 
 
 class Readback:
