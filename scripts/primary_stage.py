@@ -72,9 +72,12 @@ def main() -> None:
         ids = raster.device_ids(raster.render(camera, (0.5, 0.5), "auto"))
         tables = raster.tables
 
+        def ties_rays(sensor):
+            """the camera rays with the differentials the ``ties`` outline test measures pixels with"""
+            return camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
+
         def hits_of(scene, sensor, ids, tables, outline):
-            hits = primary_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5), differentials=True), ids, w, h, tables,
-                                outline)
+            hits = primary_hits(scene, ties_rays(sensor), ids, w, h, tables, outline)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid, hits.refined
 
         def rays_of(scene, sensor, tables):
@@ -89,24 +92,22 @@ def main() -> None:
             return hits.ray, si, hits.shape, hits.object, hits.valid, hits.refined
 
         def rays(scene, sensor):
-            ray = camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
-            return mi.Ray3f(ray)
+            return mi.Ray3f(ties_rays(sensor))
 
         def resolved(scene, sensor, ids, tables):
-            ray = camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
+            ray = ties_rays(sensor)
             record = resolve(ids, ray, tables)
             return mi.Ray3f(ray), record.hit, record.shape, record.object, record.prim, record.t, record.uv
 
         def outlined(scene, sensor, ids, tables):
-            ray = camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
+            ray = ties_rays(sensor)
             found, refined = raster_intersections(scene, ray, ids, w, h, tables, "ties")
             pi = found.pi
             return (mi.Ray3f(ray), pi.t, pi.prim_uv, pi.prim_index, dr.reinterpret_array(mi.UInt32, pi.shape), found.shape,
                     found.object, found.valid, refined)
 
         def interactions(scene, sensor, ids, tables):
-            return evaluated(raster_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5), differentials=True), ids, w, h,
-                                         tables, "ties"))
+            return evaluated(raster_hits(scene, ties_rays(sensor), ids, w, h, tables, "ties"))
 
         def camera_all(scene, sensor, tables):
             return evaluated(traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables))
