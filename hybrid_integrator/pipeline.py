@@ -719,7 +719,10 @@ class HybridRenderer:
             learnt = self._account(settings, frame, plan, state, [PassCounts.read(w, len(self.objects)) for w in words],
                                    clock)
             # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
-            # frame's work) now, where the host waits for the GPU, not in the next frame's raster pass
+            # frame's work) now, where the host waits for the GPU, not in the next frame's raster
+            # pass; nor earlier, while the GPU traces: OpenGL's side of the unmap, pending there,
+            # made the GPU switch contexts during the trace, 0.22-0.46 ms longer on every bench
+            # scene (docs/results, issue 10, stop 42)
             self.raster.release()
             # then the next frame's raster pass, which OpenGL runs once this frame's work is done
             self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
@@ -903,7 +906,10 @@ class HybridRenderer:
         this frame: the host issues it while the GPU still develops and denoises, and the next
         frame starts from its interop copy, with OpenGL's host issue and the switch between the
         two APIs' contexts behind it (docs/results, issue 10, stop 37). Stop 31 drew ahead while
-        the GPU traced, into another target, which OpenGL then ran in turns with the trace: slower.
+        the GPU traced, into another target, which OpenGL then ran in turns with the trace: slower;
+        stop 42 issued the unmap and this pass (or its commands, flushed later, or the unmap alone)
+        while the GPU traced, to take their host time off the frame's end: the trace grew by
+        0.22-0.46 ms each time.
         Without ``next_pose``, a camera that moved since the last frame draws nothing ahead (the
         next one would likely move again); a next frame that does not match discards what was
         drawn (``FrameStats.raster_discarded``)."""
