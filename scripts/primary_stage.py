@@ -76,12 +76,20 @@ def main() -> None:
             """the camera rays with the differentials the ``ties`` outline test measures pixels with"""
             return camera_rays(sensor, w, h, (0.5, 0.5), differentials=True)
 
+        def plain_rays(sensor):
+            """the RT baseline's camera rays"""
+            return camera_rays(sensor, w, h, (0.5, 0.5))
+
+        def preliminary(pi):
+            """a preliminary intersection's fields, its shape pointers as ids (``evaluated``)"""
+            return pi.t, pi.prim_uv, pi.prim_index, dr.reinterpret_array(mi.UInt32, pi.shape)
+
         def hits_of(scene, sensor, ids, tables, outline):
             hits = primary_hits(scene, ties_rays(sensor), ids, w, h, tables, outline)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid, hits.refined
 
         def rays_of(scene, sensor, tables):
-            hits = traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables)
+            hits = traced_hits(scene, plain_rays(sensor), tables)
             return hits.si.p, hits.si.n, hits.si.uv, hits.shape, hits.object, hits.valid
 
         def evaluated(hits):
@@ -102,19 +110,16 @@ def main() -> None:
         def outlined(scene, sensor, ids, tables):
             ray = ties_rays(sensor)
             found, refined = raster_intersections(scene, ray, ids, w, h, tables, "ties")
-            pi = found.pi
-            return (mi.Ray3f(ray), pi.t, pi.prim_uv, pi.prim_index, dr.reinterpret_array(mi.UInt32, pi.shape), found.shape,
-                    found.object, found.valid, refined)
+            return mi.Ray3f(ray), *preliminary(found.pi), found.shape, found.object, found.valid, refined
 
         def interactions(scene, sensor, ids, tables):
             return evaluated(raster_hits(scene, ties_rays(sensor), ids, w, h, tables, "ties"))
 
         def camera_all(scene, sensor, tables):
-            return evaluated(traced_hits(scene, camera_rays(sensor, w, h, (0.5, 0.5)), tables))
+            return evaluated(traced_hits(scene, plain_rays(sensor), tables))
 
         def camera_ray_only(scene, sensor):
-            pi = scene.ray_intersect_preliminary(camera_rays(sensor, w, h, (0.5, 0.5)), False)
-            return pi.t, pi.prim_uv, pi.prim_index, dr.reinterpret_array(mi.UInt32, pi.shape)
+            return preliminary(scene.ray_intersect_preliminary(plain_rays(sensor), False))
 
         frozen = FrozenScene(scene)  # as the device pass is frozen: the scene's variables in its place
         if args.parts:
