@@ -13,7 +13,7 @@ from .environment import pin_llvm
 
 pin_llvm()  # before Dr.Jit's LLVM backend starts: see environment.py
 
-from .api import camera_path, rasterize, rasterizer, render, render_sequence  # noqa: E402
+from .api import camera_path, finish, rasterize, rasterizer, render, render_sequence  # noqa: E402
 from .cache import forget  # noqa: E402
 from .objects import SceneObjects, scene_objects  # noqa: E402
 from .errors import (HybridError, RasterContextError, UnsupportedSceneError,  # noqa: E402
@@ -23,7 +23,7 @@ from .raster.visibility import Rasterizer, VisibilityBuffer  # noqa: E402
 from .scene import load_scene  # noqa: E402
 from .frames import render_frames  # noqa: E402
 
-__all__ = ["load_scene", "rasterize", "render", "render_sequence", "render_frames", "camera_path", "register", "rasterizer", "forget",
+__all__ = ["load_scene", "rasterize", "render", "render_sequence", "finish", "render_frames", "camera_path", "register", "rasterizer", "forget",
            "scene_objects", "SceneObjects", "GBuffer", "VisibilityBuffer", "Rasterizer", "AOV_CHANNELS",
            "HybridError", "UnsupportedSceneError", "UnsupportedVariantError", "RasterContextError"]
 __version__ = "0.1.0"

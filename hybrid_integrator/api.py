@@ -81,8 +81,17 @@ def render(scene: mi.Scene, spp: int = 0, seed: int = 0, sensor: int | mi.Sensor
     ``effects``, ``candidates`` (a string or a mapping ``{id: kinds}``), ``blend``, ``budget_ms``,
     ...). Returns a ``HybridResult`` with ``image`` (as ``mi.render`` returns it), ``layers``
     (unless ``layers=False``, which saves their splatting) and ``stats``."""
-    return _integrator(dict(properties)).render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs,
-                                                       layers=layers)
+    result = _integrator(dict(properties)).render_result(scene, sensor=sensor, seed=seed, spp=spp, aovs=aovs,
+                                                         layers=layers)
+    finish(scene)  # one frame: its times now, also with frames_in_flight=2
+    return result
+
+
+def finish(scene: mi.Scene) -> None:
+    """Wait for the scene's frame in flight, if any (``frames_in_flight=2``), and fill in its
+    times (``HybridRenderer.finish``)."""
+    if scene.shapes():
+        renderer(scene).finish()
 
 
 def camera_path(keyframes, frames: int) -> list[mi.ScalarTransform4f]:
@@ -133,6 +142,7 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
             upcoming = matrices[frame + 1] if frame + 1 < len(matrices) else None
             results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp, layers=layers,
                                                     next_camera=upcoming))
+        finish(scene)  # the last frame's times, with frames_in_flight=2
     finally:
         params["to_world"] = original
         params.update()

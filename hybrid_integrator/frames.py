@@ -72,6 +72,8 @@ class FrameRenderer:
         raster pass the frame draws ahead (``raster_ahead``). Returns ``index``."""
         import mitsuba as mi
 
+        import hybrid_integrator as hi
+
         out = Path(self.job.out_dir)
         if frame_done(out, index):
             return index
@@ -79,6 +81,9 @@ class FrameRenderer:
         self.params.update()
         result = self.integrator.render_result(self.scene, seed=self.job.seed + index, spp=self.job.spp,
                                                next_camera=next_camera)
+        # its statistics complete before they are written (``frames_in_flight=2``: inflight.py); writing
+        # reads the image back, which waits for the frame anyway
+        hi.finish(self.scene)
         write_frame(out, index, result)
         return index
 

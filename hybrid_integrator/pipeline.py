@@ -27,7 +27,9 @@ Mitsuba's camera rays and changes nothing else: the paper's pure ray-tracing bas
 timer query, the Dr.Jit kernels of each stage from Dr.Jit's kernel history (CUDA events on the
 GPU), attributed to the stage that launched them (:class:`StageClock`); ``total`` is the frame's
 wall-clock time, from the call until its image and statistics are on hand after its one
-synchronization, and ``issue`` the part of it the host took to issue the frame's work.
+synchronization, and ``issue`` the part of it the host took to issue the frame's work. With
+``frames_in_flight=2`` (``inflight.py``) a frame does not synchronize: the next frame reads its
+counts and its times (``total`` then is device time between CUDA events; its stages are NaN).
 """
 from __future__ import annotations
 
@@ -50,6 +52,7 @@ from .errors import HybridError, UnsupportedSceneError
 from .frozen import FrozenFunction, FrozenScene
 from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, candidate_kinds, candidates,
                         coverage_sums, default_kinds, pixel_growth, visibility_terms)
+from .inflight import FRAMES_IN_FLIGHT, FrameSpan, InFlight
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
 from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolve_outline, resolved, traced_hits
@@ -119,6 +122,7 @@ class HybridSettings:
     learn_ambient: bool = True
     shadow_tier: bool = True
     raster_ahead: str = "auto"
+    frames_in_flight: int = 1
 
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
@@ -141,6 +145,8 @@ class HybridSettings:
             raise HybridError(f"denoise_quality='{self.denoise_quality}' is not one of {list(QUALITIES)}")
         if self.raster_ahead not in RASTER_AHEAD:
             raise HybridError(f"raster_ahead='{self.raster_ahead}' is not one of {list(RASTER_AHEAD)}")
+        if self.frames_in_flight not in FRAMES_IN_FLIGHT:
+            raise HybridError(f"frames_in_flight={self.frames_in_flight} is not one of {list(FRAMES_IN_FLIGHT)}")
         if self.relevance not in RELEVANCE:
             raise HybridError(f"relevance='{self.relevance}' is not one of {list(RELEVANCE)}")
         if self.selection not in SELECTORS:
@@ -207,6 +213,10 @@ class FrameStats:
     relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
     selection_changes: int = 0  # objects traced now but not in the previous frame, or the reverse
     shadow_only: tuple[str, ...] = ()  # of ``selected``, those traced by their shadow tier (heuristic.candidates)
+    #: rendered in flight (``frames_in_flight=2``, ``inflight.py``): no synchronization at its end;
+    #: ``times_ms`` holds ``total`` (device time, CUDA events), ``gl``, ``denoise`` and ``issue``,
+    #: its stages NaN, all of them NaN until the next frame or ``HybridRenderer.finish`` reads them
+    in_flight: bool = False
 
     @property
     def budget_met(self) -> bool:
@@ -284,6 +294,10 @@ class StageClock:
             if new:
                 self.stage_of[entry["hash"]] = stage
             self._taken.append((stage if new else None, entry))
+
+    def discard(self) -> None:
+        """Forget the kernels taken since the last :meth:`frame_times` (a frame whose history is not read)."""
+        self._taken = []
 
     def frame_times(self) -> dict[str, float]:
         """The device ms per stage of the kernels since the last call (the frame's)."""
@@ -663,17 +677,24 @@ class HybridRenderer:
         self._setups: dict = {}
         self._denoisers: dict[str, Denoiser] = {}
         self._accumulators: dict[bool, Accumulator] = {}
-        #: on the GPU, each frame's counts reach the host without waiting for the rest of its work
-        self._counts = HostCopy() if mi.variant().startswith("cuda") else None
+        #: on the GPU, each frame's counts reach the host without waiting for the rest of its work;
+        #: two copies, frames taking turns, so that a frame in flight keeps its own until it is read
+        self._counts = [HostCopy(), HostCopy()] if mi.variant().startswith("cuda") else []
         #: the sub-pixel offsets of the next seed, made while the GPU traced the last frame
         self._next_offsets: dict[tuple[int, int], list[tuple[float, float]]] = {}
+        #: the last frame, while it is in flight (``frames_in_flight=2``: inflight.py), and the
+        #: device time spans of frames no longer in flight, for reuse
+        self._in_flight: InFlight | None = None
+        self._spans: list[FrameSpan] = []
 
     def render(self, settings: HybridSettings, sensor: int | mi.Sensor = 0, spp: int = 0, seed: int = 0,
                aovs=(), state: FrameState | None = None, layers: bool = True, next_camera=None) -> HybridResult:
         """One frame (paper Fig. 4). ``state`` carries the previous frame's selection, coverage and
         the cost model into this one (a fresh state: the first frame of a sequence).
         ``next_camera``: the sensor's ``to_world`` in the next frame, where it is known (a camera
-        path): the frame draws that frame's raster pass ahead (:meth:`_draw_ahead`)."""
+        path): the frame draws that frame's raster pass ahead (:meth:`_draw_ahead`).
+        With ``settings.frames_in_flight=2`` and no budget, the frame returns without waiting for
+        the GPU to finish it, and its times are read later (``inflight.py``, :meth:`finish`)."""
         state = state if state is not None else FrameState()
         next_pose = None if next_camera is None else camera_pose(next_camera)  # checked before any work
         if int(spp) < 0:
@@ -681,6 +702,14 @@ class HybridRenderer:
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
             dr.kernel_history_clear()
             clock = _HostClock()
+            # a budget learns from the trace's time, which only a synchronization gives (inflight.py)
+            span = after = None
+            if settings.frames_in_flight > 1 and settings.budget_ms <= 0:
+                span = self._spans.pop() if self._spans else FrameSpan()
+                span.start()
+                after = self._in_flight.span if self._in_flight is not None else None
+            else:  # the frame before, if it is in flight: what it teaches, before this frame plans
+                self.finish()  # (on a clock of its own: not this frame's time)
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
             # a sequence's frames take seeds seed, seed + 1, ...: the previous frame made these
             offsets = self._next_offsets.pop((frame.stats.spp, seed), None) or subpixel_offsets(frame.stats.spp, seed)
@@ -697,14 +726,23 @@ class HybridRenderer:
             clock.lap("select")
             outputs = [self._device(settings, frame, config, seed, sample, offset, ids[sample], clock)  # 1, 2, 4, 5
                        for sample, offset in enumerate(offsets)]
-            if self._counts:  # the counts to the host as soon as the device passes are done
-                self._counts.start([o.counts for o in outputs])
+            copy = self._counts[0] if self._counts else None
+            self._counts.reverse()
+            if copy:  # the counts to the host as soon as the device passes are done
+                copy.start([o.counts for o in outputs])
+            if span is not None:
+                # the frame before is done before the GPU starts these passes: its times and what it
+                # teaches now, while the GPU traces, before this frame's denoiser records its events again
+                self.finish(clock, keep=after is not None)
             composed = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
             clock.lap("develop")
             image = self._post(settings, frame, state, composed, outputs)
             clock.lap("post")
-            frame.stats.times_ms["issue"] = clock.elapsed()
+            # (less the frame before's, where it was finished in this one)
+            frame.stats.times_ms["issue"] = clock.elapsed() - sum(clock.phases.get(k, 0.0) for k in ("timing", "readback", "sync"))
             dr.eval(image)
+            if span is not None:
+                span.stop()
             # the cost model refitted to the last frame's trace (observed after its synchronization)
             # now, while the GPU traces this frame, not in the plan made ahead below, where the host
             # would keep the GPU waiting once it has denoised (the same fit: nothing is observed between)
@@ -712,12 +750,15 @@ class HybridRenderer:
             # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
             # generator) now too, not before the next frame's raster pass: the same numbers
             self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
-            # the counts, then what the next frame learns from them: on the GPU while it develops
-            # and denoises this frame (the counts' copy waits for the device passes alone)
-            words = self._counts.wait() if self._counts else [np.array(o.counts) for o in outputs]
-            clock.lap("sync")
-            learnt = self._account(settings, frame, plan, state, [PassCounts.read(w, len(self.objects)) for w in words],
-                                   clock)
+            counts = [o.counts for o in outputs]
+            learnt = None
+            if span is None:
+                # the counts, then what the next frame learns from them: on the GPU while it develops
+                # and denoises this frame (the counts' copy waits for the device passes alone)
+                learnt = self._lesson(settings, frame, plan, state, copy, counts, clock)
+            elif copy and settings.primary == "raster":  # in flight: learnt from in the next frame
+                copy.sync()  # this frame's trace done, before OpenGL gets work again (below)
+                clock.lap("sync")
             # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
             # frame's work) now, where the host waits for the GPU, not in the next frame's raster
             # pass; nor earlier, while the GPU traces: OpenGL's side of the unmap, pending there,
@@ -727,10 +768,18 @@ class HybridRenderer:
             # then the next frame's raster pass, which OpenGL runs once this frame's work is done
             self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
             clock.lap("ahead")
-            dr.sync_thread()  # the frame's one synchronization
-            clock.lap("sync")
-            self._account_times(settings, frame, state, learnt, clock)
-            frame.stats.times_ms["total"] = clock.elapsed() - clock.phases["timing"]
+            if span is None:
+                dr.sync_thread()  # the frame's one synchronization
+                clock.lap("sync")
+                self._account_times(settings, frame, state, learnt, clock)
+                frame.stats.times_ms["total"] = clock.elapsed() - clock.phases["timing"]
+            else:  # its times and its lesson once the GPU is done with it
+                self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
+                frame.stats.in_flight = True
+                unread = [k for k in STAGES if k != "denoise"] + ["total"]
+                unread += ["denoise"] * (frame.denoiser is not None) + ["gl"] * (settings.primary == "raster")
+                frame.stats.times_ms.update(dict.fromkeys(unread, math.nan))
+                self.clock.discard()  # no kernel history is read for it
             frame.stats.host_ms = {k: clock.phases.get(k, 0.0) for k in HOST_PHASES}
         layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
@@ -1054,18 +1103,50 @@ class HybridRenderer:
         clock.lap("readback")
         return learnt
 
+    def finish(self, clock: "_HostClock | None" = None, keep: bool = False) -> None:
+        """Wait until the GPU is done with the frame in flight, if there is one; then what the
+        next frames learn from its counts (:meth:`_account`: its statistics too) and its times:
+        ``total``, the device time of its span (inflight.py), ``gl`` and ``denoise``. ``clock``:
+        the host clock of the frame that does it (``timing``, ``readback``); ``keep``: that frame
+        measures its span from this one's end (which is not reused until it is finished)."""
+        pending, self._in_flight = self._in_flight, None
+        if pending is None:
+            return
+        clock = clock or _HostClock()
+        pending.span.wait()
+        clock.lap("timing")
+        self._lesson(pending.settings, pending.frame, None, pending.state, pending.copy, pending.counts, clock)
+        pending.frame.stats.times_ms["total"] = pending.span.elapsed_ms(pending.after)
+        self._timers(pending.frame)
+        self._spans += [s for s in (pending.after, None if keep else pending.span) if s is not None]
+        clock.lap("timing")
+
+    def _lesson(self, settings: HybridSettings, frame: _Frame, plan: FramePlan | None, state: FrameState,
+                copy: HostCopy | None, counts: list, clock: "_HostClock") -> tuple | None:
+        """The frame's counts (``copy``'s on the GPU; on the CPU read from the ``counts`` arrays),
+        once its device passes are done, and what they teach (:meth:`_account`)."""
+        words = copy.wait() if copy else [np.array(c) for c in counts]
+        clock.lap("sync")
+        return self._account(settings, frame, plan, state, [PassCounts.read(w, len(self.objects)) for w in words], clock)
+
+    def _timers(self, frame: _Frame) -> None:
+        """The frame's device times that are not Dr.Jit's kernels: the denoiser's (CUDA events) and
+        the raster pass's draws (GL timer queries, then free for other draws)."""
+        stats = frame.stats
+        if frame.denoiser is not None:
+            stats.times_ms["denoise"] = frame.denoiser.elapsed_ms()
+        if stats.primary == "raster":
+            stats.times_ms["gl"] = sum(gl_elapsed_ms(q) for q in frame.queries)
+            self._gl_queries.extend(frame.queries)
+
     def _account_times(self, settings: HybridSettings, frame: _Frame, state: FrameState, learnt, clock: "_HostClock") -> None:
         """After the frame's synchronization: the device time of its stages, and the cost model
         taught the trace's time (:meth:`_account`'s ``learnt``)."""
         stats = frame.stats
         stats.times_ms.update(self.clock.frame_times())
-        if frame.denoiser is not None:
-            stats.times_ms["denoise"] = frame.denoiser.elapsed_ms()
-        if settings.primary == "raster":
-            stats.times_ms["gl"] = sum(gl_elapsed_ms(q) for q in frame.queries)
-            self._gl_queries.extend(frame.queries)
-            if math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
-                stats.times_ms["raster"] += stats.times_ms["gl"]
+        self._timers(frame)
+        if settings.primary == "raster" and math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
+            stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")
         if learnt is not None:
             # the refit waits for the next prediction: the next frame's plan, made ahead in this

@@ -174,3 +174,43 @@ def test_workers_without_ray_say_how_to_get_it(tmp_path):
     done = subprocess.run([sys.executable, "-c", code, str(DEFAULT_SCENE), str(tmp_path)], capture_output=True,
                           text=True, timeout=300)
     assert "ERROR" in done.stdout and "pip install 'hybrid_integrator[ray]'" in done.stdout, done.stderr[-2000:]
+
+
+def test_frames_in_flight_render_the_same_frames_and_read_their_times_later():
+    """``frames_in_flight=2`` (inflight.py): a camera path renders the same images as one frame at
+    a time (raster passes drawn ahead too); a frame in flight has NaN times until the next frame
+    reads them (its total, device time of its span; its denoiser's; its stages stay NaN: no
+    kernel history without a synchronization) and learns from its counts (its statistics); the
+    path's last frame is read by render_sequence.
+    A budgeted frame is rendered one at a time, and a bad value is refused."""
+    import math
+
+    from hybrid_integrator.api import _integrator
+
+    scene = hi.load_scene(DEFAULT_SCENE, **SMALL)
+    cameras = _cameras(4)
+    common = dict(spp=1, seed=7, layers=False, raster_ahead="on")
+    one = hi.render_sequence(scene, cameras, **common)
+    two = hi.render_sequence(scene, cameras, frames_in_flight=2, **common)
+    for a, b in zip(one, two):
+        assert np.array_equal(np.array(a.image), np.array(b.image))
+        assert not a.stats.in_flight and b.stats.in_flight
+        # its counts' lesson, learnt in the next frame: the same statistics (the objects' order by
+        # relevance may differ: a frame in flight shades its raster layer with the ambient term
+        # learnt a frame earlier, and the error it measures of the layer differs with it)
+        assert (a.stats.rays, a.stats.pixels_traced) == (b.stats.rays, b.stats.pixels_traced)
+        assert sorted(a.stats.selected) == sorted(b.stats.selected) and b.stats.selected
+        t = b.stats.times_ms
+        assert t["total"] > 0 and t["denoise"] > 0 and t["issue"] > 0 and math.isnan(t["trace"]), t
+        assert math.isfinite(a.stats.times_ms["trace"])
+    assert [b.stats.raster_ahead for b in two] == [a.stats.raster_ahead for a in one] == [0, 1, 1, 1]
+    # a frame in flight, then one with a budget: the first's times come with the second
+    integrator = _integrator(dict(frames_in_flight=2))
+    first = integrator.render_result(scene, seed=1, spp=1, layers=False)
+    assert first.stats.in_flight and math.isnan(first.stats.times_ms["total"])
+    integrator.settings = type(integrator.settings)(frames_in_flight=2, budget_ms=50.0)
+    second = integrator.render_result(scene, seed=2, spp=1, layers=False)
+    assert first.stats.times_ms["total"] > 0 and not second.stats.in_flight
+    assert math.isfinite(second.stats.times_ms["trace"]) and second.stats.times_ms["total"] > 0
+    with pytest.raises(hi.HybridError, match="frames_in_flight=3"):
+        hi.render(scene, frames_in_flight=3)

@@ -264,10 +264,13 @@ class HostCopy:
                 offset += 4 * size
             self.driver.call_current("cuEventRecord", self.event, self.driver.stream)
 
-    def wait(self) -> list[np.ndarray]:
-        """Wait for the copies issued by :meth:`start` (not for the work issued after them) and
-        return each array's words (copies: the buffer is reused)."""
+    def sync(self) -> None:
+        """Wait for the copies issued by :meth:`start` (not for the work issued after them)."""
         self.driver.call("cuEventSynchronize", self.event)
+
+    def wait(self) -> list[np.ndarray]:
+        """:meth:`sync`, then each array's words (copies: the buffer is reused)."""
+        self.sync()
         words = np.ctypeslib.as_array((ctypes.c_uint32 * sum(self._sizes)).from_address(self._host.value)).copy()
         return np.split(words, np.cumsum(self._sizes)[:-1])
 
@@ -288,7 +291,13 @@ class StreamTimer:
     def stop(self) -> None:
         self.driver.call("cuEventRecord", self.events[1], self.driver.stream)
 
-    def elapsed_ms(self) -> float:
+    def wait(self) -> None:
+        """Wait until the work issued before :meth:`stop` is done (not the work issued after it)."""
+        self.driver.call("cuEventSynchronize", self.events[1])
+
+    def elapsed_ms(self, since: "StreamTimer | None" = None) -> float:
+        """Device ms from :meth:`start` (or from ``since``'s :meth:`stop`) to :meth:`stop`."""
         ms = ctypes.c_float()
-        self.driver.call("cuEventElapsedTime", ctypes.byref(ms), self.events[0], self.events[1])
+        first = self.events[0] if since is None else since.events[1]
+        self.driver.call("cuEventElapsedTime", ctypes.byref(ms), first, self.events[1])
         return float(ms.value)
