@@ -12,7 +12,10 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   and the **paired Gain** (:func:`paired_gain`): the two frames rendered in turn, one pair at a
   time, the median and quartiles of the pairs' ratios. The two blocks of frames behind Gain are
   measured a second apart, and a host whose speed drifts moves it by a few per cent between runs
-  of the same code (issue 10, stop 29); a pair's frames share the drift;
+  of the same code (issue 10, stop 29); a pair's frames share the drift; and the same paired Gain
+  with two frames in flight (``frames_in_flight=2``, ``inflight.py``: the next frame issued while
+  the GPU finishes the last, each frame timed by CUDA events), the sides in turns of
+  :data:`IN_FLIGHT_BLOCK` frames;
 - ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
   a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
   frames (``budget.py``), which are warm-up, not measured;
@@ -70,6 +73,8 @@ ERROR_FRAMES = 4
 HISTORY_CHECKPOINTS = (1, 2, 4, 8, 16)
 #: paths per primary hit of the second still-camera history (``secondary_spp``)
 HISTORY_PATHS = 8
+#: frames per turn of the paired Gain with frames in flight (the first of each not measured)
+IN_FLIGHT_BLOCK = 5
 
 
 def history_rival(method: str) -> str:
@@ -132,37 +137,51 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
 
 
 def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
-                   warmup: int = 3, before=None) -> dict[str, list[dict]]:
+                   warmup: int = 3, before=None, block: int = 1) -> dict[str, list[dict]]:
     """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
     rendering ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for all in round k; the
     order rotates from round to round, so that none always follows another); ``before(name)``, if
     given, is called before each of a side's frames (a probe's stand-ins). Returns, per side, the
-    ``times_ms`` of its measured frames."""
-    from .api import _integrator
+    ``times_ms`` of its measured frames.
+
+    ``block`` > 1: in each round a side renders ``block`` frames in a row, the first of which is
+    not measured: with ``frames_in_flight=2`` it starts while the GPU still runs the other side's
+    last frame (and the hybrid's raster pass drawn ahead for a frame of its own that does not come
+    next); ``frames`` measured frames per side, in rounds of ``block`` − 1 (the last round may
+    measure fewer). ``warmup`` rounds are not measured."""
+    from .api import _integrator, finish
 
     integrators = {name: _integrator(dict(props)) for name, props in sides.items()}
     times: dict[str, list[dict]] = {name: [] for name in sides}
     order = list(sides)
-    for k in range(warmup + frames):
+    per_round = max(block - 1, 1)
+    for k in range(warmup + -(-frames // per_round)):
         for name in order:
-            if before is not None:
-                before(name)
-            result = integrators[name].render_result(scene, seed=seed + k, spp=spp, layers=False)
-            if k >= warmup:
-                times[name].append(result.stats.times_ms)
+            for j in range(block):
+                if before is not None:
+                    before(name)
+                result = integrators[name].render_result(scene, seed=seed + k * block + j, spp=spp, layers=False)
+                if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
+                    times[name].append(result.stats.times_ms)
         order = order[1:] + order[:1]
+    finish(scene)  # the last frame's times, with frames_in_flight=2
     return times
 
 
-def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3) -> dict:
+def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3,
+                block: int = 1) -> dict:
     """RT baseline / all-candidates hybrid, frame by frame (module docstring): the two integrators
     with these ``properties``, one with ``primary="raytrace"``, render in turn
     (:func:`frames_in_turn`). Returns the median ratio of the measured pairs, its quartiles, and
-    each side's median frame time."""
+    each side's median frame time. ``block`` > 1 (frames in flight): the sides take turns by
+    blocks of frames, and a pair is the two sides' median frames of a round."""
     times = frames_in_turn(scene, {"hybrid": properties, "rt": dict(properties, primary="raytrace")}, frames, spp,
-                           seed, warmup)
+                           seed, warmup, block=block)
     total = {side: [t["total"] for t in times[side]] for side in times}
-    ratios = np.asarray(total["rt"]) / np.asarray(total["hybrid"])
+    per_round = max(block - 1, 1)
+    rounds = {side: [statistics.median(v[i:i + per_round]) for i in range(0, len(v), per_round)]
+              for side, v in total.items()}
+    ratios = np.asarray(rounds["rt"]) / np.asarray(rounds["hybrid"])
     q25, median, q75 = (float(q) for q in np.percentile(ratios, [25, 50, 75]))
     return {"median": median, "q25": q25, "q75": q75, "pairs": int(len(ratios)),
             "hybrid_ms": statistics.median(total["hybrid"]), "rt_ms": statistics.median(total["rt"])}
@@ -220,6 +239,10 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     everything = hybrid("hybrid", "hybrid", 3)
     rt = hybrid("rt-baseline", "rt", 3, primary="raytrace")
     paired = paired_gain(scene, {"freeze": freeze, **properties}, frames, spp, seed)
+    # the same two frames with the next frame issued while the GPU finishes the last (inflight.py):
+    # blocks of five frames in turn, four measured
+    in_flight = paired_gain(scene, {"freeze": freeze, **properties, "frames_in_flight": 2}, frames, spp, seed,
+                            block=IN_FLIGHT_BLOCK)
     trace_all = everything.stages_ms["trace"]
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
         hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))
@@ -284,7 +307,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                          "file": None if gt_file is None else str(gt_file), "cached": cached},
         "dr_ms": raster.time_ms, "gl_ms": raster.stages_ms.get("gl", 0.0), "rt_ms": rt.time_ms,
         "path_1spp_ms": curve[0].time_ms,
-        "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "gain_paired": paired, "all_candidates_trace_ms": trace_all,
+        "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "gain_paired": paired, "gain_in_flight": in_flight, "all_candidates_trace_ms": trace_all,
         "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
     }
 
@@ -385,17 +408,22 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL pass "
              "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene.", "",
              "Gain: RT / Hybrid of the two rows; paired: the same two frames rendered in turn, the median "
-             "ratio of the pairs [quartiles] (`bench.paired_gain`).", "",
-             "| scene | vertices | triangles | shapes | DR | GL pass | RT | Hybrid | Gain | Gain, paired | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "ratio of the pairs [quartiles] (`bench.paired_gain`); 2 in flight: the same with "
+             "`frames_in_flight=2` (`inflight.py`), in turns of five frames, four measured: the median ratio "
+             "of the turns' medians, and the two sides' median frames (device time, CUDA events).", "",
+             "| scene | vertices | triangles | shapes | DR | GL pass | RT | Hybrid | Gain | Gain, paired | "
+             "Gain, 2 in flight (Hybrid / RT ms) | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in reports:
         p = PAPER.get(r["name"], {})
         paper = f"{p['DR']} / {p['RT']} / {p['Hybrid']} / {p['Gain']}" if "RT" in p else "–"
         g = r.get("gain_paired")  # reports written before it was measured have none
         paired = f"{g['median']:.3f} [{g['q25']:.3f}, {g['q75']:.3f}]" if g else "–"
+        f = r.get("gain_in_flight")
+        flight = f"{f['median']:.3f} ({f['hybrid_ms']:.2f} / {f['rt_ms']:.2f})" if f else "–"
         lines.append(f"| {r['name']} | {r['vertices']:,} | {r['triangles']:,} | {r['shapes']} | {r['dr_ms']:.2f} | "
                      f"{r['gl_ms']:.2f} | {r['rt_ms']:.2f} | {r['hybrid_ms']:.2f} | {r['gain']:.2f} | {paired} | "
-                     f"{r['path_1spp_ms']:.2f} | {paper} |")
+                     f"{flight} | {r['path_1spp_ms']:.2f} | {paper} |")
     if all(r["equal_time"] for r in reports):
         lines += _table4(reports)
     for r in reports:

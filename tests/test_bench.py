@@ -54,6 +54,10 @@ def test_bench_report_has_every_field(tmp_path):
     assert paired["pairs"] == report["frames"] and paired["q25"] <= paired["median"] <= paired["q75"]
     assert paired["hybrid_ms"] > 0 and paired["rt_ms"] > 0 and 0.2 < paired["median"] < 5
     assert f"{paired['median']:.3f} [{paired['q25']:.3f}, {paired['q75']:.3f}]" in (tmp_path / "bench.md").read_text()
+    # with two frames in flight: turns of five frames, four measured (rounds of the frames asked for)
+    flight = report["gain_in_flight"]
+    assert flight["pairs"] == -(-report["frames"] // 4) and flight["hybrid_ms"] > 0 and flight["rt_ms"] > 0
+    assert f"{flight['median']:.3f} ({flight['hybrid_ms']:.2f} / {flight['rt_ms']:.2f})" in (tmp_path / "bench.md").read_text()
     assert report["triangles"] == 10264 and report["width"] == 48 and report["height"] == 32
     assert report["command"].startswith("hybrid bench ")
     assert (tmp_path / "default.png").stat().st_size > 0 and "Table 3 layout" in (tmp_path / "bench.md").read_text()
