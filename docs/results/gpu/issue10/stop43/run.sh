@@ -12,3 +12,6 @@ fi
 if [ "$1" = timeline ]; then
   timeout 560 python3 docs/results/gpu/issue10/stop43/timeline.py $S $D 2>&1 | grep -E "gap|rror" | tee $OUT/timeline.txt
 fi
+if [ "$1" = copied ]; then  # the gap split at the interop copy (timeline.py with COPIED=1)
+  COPIED=1 timeout 560 python3 docs/results/gpu/issue10/stop43/timeline.py $S $D 2>&1 | grep -E "gap|copy done|rror" | tee $OUT/timeline_copied.txt
+fi

@@ -6,7 +6,9 @@ records a CUDA event on Dr.Jit's stream and the host's clock. Host and GPU clock
 event recorded on an idle stream. Per frame N of a 30-frame sequence with ``frames_in_flight=2``:
 ``gap`` = when the GPU reached N's replay − when it reached N − 1's end (the GL pass of the
 hybrid, its interop copy, and time the GPU waited for the host), ``late`` = when the GPU reached
-N's replay − when the host issued it (≈ 0: the GPU waited for the host), and the period.
+N's replay − when the host issued it (≈ 0: the GPU waited for the host), and the period. With
+``COPIED=1`` also an event after each pass's visibility buffer is copied (``_visibility``: the
+interop map and copy), which splits ``gap`` there.
 
     python3 timeline.py SCENE... -D resx=1280 -D resy=720 ...
 """
@@ -37,7 +39,13 @@ def mark(label):
     marks.append((label, event, time.perf_counter()))
 
 
-device, stop = pipeline.HybridRenderer._device, inflight.FrameSpan.stop
+device, stop, visibility = pipeline.HybridRenderer._device, inflight.FrameSpan.stop, pipeline.HybridRenderer._visibility
+
+
+def wrapped_visibility(self, *a, **k):
+    out = visibility(self, *a, **k)
+    mark("copied")  # behind the interop map and copy of the pass's visibility buffer
+    return out
 
 
 def wrapped_device(self, *a, **k):
@@ -51,6 +59,8 @@ def wrapped_stop(self):
 
 
 pipeline.HybridRenderer._device, inflight.FrameSpan.stop = wrapped_device, wrapped_stop
+if os.environ.get("COPIED"):  # also split the gap at the interop copy's end
+    pipeline.HybridRenderer._visibility = wrapped_visibility
 args = sys.argv[1:]
 defines = dict(a.split("=", 1) for a in args[args.index("-D") + 1::2]) if "-D" in args else {}
 for spec in [a for a in args if a.endswith(".xml")]:
@@ -78,6 +88,11 @@ for spec in [a for a in args if a.endswith(".xml")]:
         gaps = [rp[1] - e[1] for rp, e in zip(replays[1:], ends[:-1])]
         late = [rp[1] - rp[2] for rp in replays[1:]]
         periods = [b[1] - a[1] for a, b in zip(ends[:-1], ends[1:])]
+        copied = [r for r in rows if r[0] == "copied"]
+        if copied:
+            to_copied = [c[1] - e[1] for c, e in zip(copied[1:], ends[:-1])]
+            print(f"{name:16s} {primary:8s} GPU from frame N - 1's end to N's copy done {statistics.median(to_copied):.3f} ms, "
+                  f"then to its replay {statistics.median([rp[1] - c[1] for rp, c in zip(replays[1:], copied[1:])]):.3f} ms")
         print(f"{name:16s} {primary:8s} gap {statistics.median(gaps):.3f} ms  GPU behind host at replay "
               f"{statistics.median(late):.3f} ms (min {min(late):.3f})  period {statistics.median(periods):.3f} ms  "
               f"frame total {statistics.median(f.stats.times_ms['total'] for f in frames[1:]):.3f} ms", flush=True)
