@@ -3,9 +3,13 @@
 A frame rendered one at a time (``frames_in_flight=1``, the default) ends with the backend's one
 synchronization, after which Dr.Jit's kernel history gives each stage's device time. Between that
 synchronization and the next frame's first kernel the GPU has nothing to do: the host reads the
-stage times (0.3–0.5 ms on an H200's host), returns, sets up the next frame, copies its visibility
-buffer and replays its device pass (about 1 ms in all). Stop 41 measured that gap at 1.1–1.3 ms of
-an 8–16 ms frame, for the hybrid and its RT baseline alike (docs/results, issue 10).
+stage times (0.3–0.5 ms on an H200's host: docs/results/gpu/issue10/stop42, ``host.sh``), returns,
+sets up the next frame, copies its visibility buffer and replays its device pass (about 1 ms in
+all). Stop 41 measured that gap at 1.1–1.3 ms of an 8–16 ms frame, for the hybrid and its RT
+baseline alike (docs/results/gpu/issue10/stop41, ``run1.sh``–``run3.sh``). Stop 43 measured what
+frames in flight gain (``docs/results/gpu/issue10/stop43/run.sh wall``): 3–18 % of the wall time
+per frame for the hybrid, 4–19 % for the RT baseline, whose frames have no OpenGL handoff between
+them (0.41–0.57 ms of GPU time per hybrid frame, ``run.sh timeline``).
 
 With ``frames_in_flight=2`` a frame does not synchronize. Once its device passes are issued it
 waits for the frame before (which the GPU finishes ahead of them: the wait costs the GPU nothing),

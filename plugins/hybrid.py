@@ -123,16 +123,18 @@ Properties
                  the buffer reaches Dr.Jit through CUDA–OpenGL interop, whose unmap orders
                  OpenGL's draw after the frame's CUDA work; ``on``; ``off``.
 ``frames_in_flight`` 1 (the default): each frame ends with the backend's synchronization and
-                 reports its stages' device times. 2: a frame returns once the next frame's
-                 raster pass is drawn ahead, while the GPU still lights, composes and denoises it,
-                 so the next frame's host work runs meanwhile and the GPU goes from frame to frame
-                 without waiting (``hybrid_integrator/inflight.py``). Its times are read when the
-                 next frame has issued its device passes (``hi.render_sequence`` and ``hi.render``
-                 read the last one's; else ``hi.finish(scene)``): ``total`` (device time from its
-                 first work to its last, CUDA events), ``gl``, ``denoise``; its stages' times are
-                 NaN (Dr.Jit reads its kernel history only after a synchronization). A frame with a
-                 budget is rendered one at a time (it learns from the trace's time);
-                 ``stats.in_flight`` says how each frame ran.
+                 reports its stages' device times. 2: a frame returns without it, while the GPU
+                 still develops and denoises it (the hybrid once its trace is done and the next
+                 raster pass is drawn ahead), so the next frame's host work runs meanwhile and the
+                 GPU goes from frame to frame without waiting for the host
+                 (``hybrid_integrator/inflight.py``). Its counts and times are read when the next
+                 frame has issued its device passes (``hi.render_sequence`` and ``hi.render`` read
+                 the last one's; else ``hi.finish(scene)``): ``total`` (device time between CUDA
+                 events: from the end of the frame before, if that was still in flight, else from
+                 its own start), ``gl``, ``denoise``; its stages' times are NaN (Dr.Jit reads its
+                 kernel history only after a synchronization); what it learns (the ambient term)
+                 shades the frame after next. A frame with a budget is rendered one at a time (it
+                 learns from the trace's time); ``stats.in_flight`` says how each frame ran.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the
