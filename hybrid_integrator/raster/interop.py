@@ -11,7 +11,10 @@ it). The texture stays mapped after the copy until the frame's work is issued
 (:meth:`Readback.release`, which the renderer calls at the end of each frame, where the host waits
 for the GPU, and the rasterizer before it draws or reads): unmapped right after the copy, the
 unmap held up the kernels issued after it, and DR frames took 0.2–0.5 ms longer on the H100 where
-the GPU, not the host, bounds them (``docs/results/gpu/issue10/unmap``).
+the GPU, not the host, bounds them (``docs/results/gpu/issue10/unmap``). Memory both APIs share
+with no map or unmap (``GL_EXT_memory_object_fd``, ordered through the host) was no faster one
+frame at a time and slower in flight: the unmap also orders OpenGL's next pass behind CUDA's frame
+on the GPU, which the host cannot (``docs/results/gpu/issue10/stop44``).
 
 The copy goes through the CUDA driver API (``libcuda`` via ctypes) in the device's primary
 context, which Dr.Jit's CUDA backend shares: Dr.Jit 1.5's own ``dr.cuda.register_gl_buffer``
