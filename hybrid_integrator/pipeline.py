@@ -702,14 +702,7 @@ class HybridRenderer:
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
             dr.kernel_history_clear()
             clock = _HostClock()
-            # a budget learns from the trace's time, which only a synchronization gives (inflight.py)
-            span = after = None
-            if settings.frames_in_flight > 1 and settings.budget_ms <= 0:
-                span = self._spans.pop() if self._spans else FrameSpan()
-                span.start()
-                after = self._in_flight.span if self._in_flight is not None else None
-            else:  # the frame before, if it is in flight: what it teaches, before this frame plans
-                self.finish()  # (on a clock of its own: not this frame's time)
+            span, after = self._begin(settings)
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
             # a sequence's frames take seeds seed, seed + 1, ...: the previous frame made these
             offsets = self._next_offsets.pop((frame.stats.spp, seed), None) or subpixel_offsets(frame.stats.spp, seed)
@@ -738,52 +731,75 @@ class HybridRenderer:
             clock.lap("develop")
             image = self._post(settings, frame, state, composed, outputs)
             clock.lap("post")
-            # (less the frame before's, where it was finished in this one)
-            frame.stats.times_ms["issue"] = clock.elapsed() - sum(clock.phases.get(k, 0.0) for k in ("timing", "readback", "sync"))
-            dr.eval(image)
-            if span is not None:
-                span.stop()
-            # the cost model refitted to the last frame's trace (observed after its synchronization)
-            # now, while the GPU traces this frame, not in the plan made ahead below, where the host
-            # would keep the GPU waiting once it has denoised (the same fit: nothing is observed between)
-            state.cost_model.current()
-            # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
-            # generator) now too, not before the next frame's raster pass: the same numbers
-            self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
-            counts = [o.counts for o in outputs]
-            learnt = None
-            if span is None:
-                # the counts, then what the next frame learns from them: on the GPU while it develops
-                # and denoises this frame (the counts' copy waits for the device passes alone)
-                learnt = self._lesson(settings, frame, plan, state, copy, counts, clock)
-            elif copy and settings.primary == "raster":  # in flight: learnt from in the next frame
-                copy.sync()  # this frame's trace done, before OpenGL gets work again (below)
-                clock.lap("sync")
-            # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
-            # frame's work) now, where the host waits for the GPU, not in the next frame's raster
-            # pass; nor earlier, while the GPU traces: OpenGL's side of the unmap, pending there,
-            # made the GPU switch contexts during the trace, 0.22-0.46 ms longer on every bench
-            # scene (docs/results, issue 10, stop 42)
-            self.raster.release()
-            # then the next frame's raster pass, which OpenGL runs once this frame's work is done
-            self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
-            clock.lap("ahead")
-            if span is None:
-                dr.sync_thread()  # the frame's one synchronization
-                clock.lap("sync")
-                self._account_times(settings, frame, state, learnt, clock)
-                frame.stats.times_ms["total"] = clock.elapsed() - clock.phases["timing"]
-            else:  # its times and its lesson once the GPU is done with it
-                self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
-                frame.stats.in_flight = True
-                unread = [k for k in STAGES if k != "denoise"] + ["total"]
-                unread += ["denoise"] * (frame.denoiser is not None) + ["gl"] * (settings.primary == "raster")
-                frame.stats.times_ms.update(dict.fromkeys(unread, math.nan))
-                self.clock.discard()  # no kernel history is read for it
-            frame.stats.host_ms = {k: clock.phases.get(k, 0.0) for k in HOST_PHASES}
+            self._end_frame(settings, frame, state, plan, copy, [o.counts for o in outputs], image, clock,
+                            span, after, seed, next_pose)
         layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
         return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images, composed=composed)
+
+    def _begin(self, settings: HybridSettings) -> tuple[FrameSpan | None, FrameSpan | None]:
+        """The frame's start: in flight (``frames_in_flight=2``, no budget: a budget learns from the
+        trace's time, which only a synchronization gives; ``inflight.py``) its device time span,
+        started, and the span of the frame before if that is still in flight; else (None, None),
+        once the frame before, if in flight, is finished: what it teaches, before this frame plans
+        (on a clock of its own: not this frame's time)."""
+        if settings.frames_in_flight > 1 and settings.budget_ms <= 0:
+            span = self._spans.pop() if self._spans else FrameSpan()
+            span.start()
+            return span, self._in_flight.span if self._in_flight is not None else None
+        self.finish()
+        return None, None
+
+    def _end_frame(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan,
+                   copy: HostCopy | None, counts: list, image: mi.TensorXf, clock: "_HostClock",
+                   span: FrameSpan | None, after: FrameSpan | None, seed: int, next_pose: np.ndarray | None) -> None:
+        """The frame's end, once its work is issued: the image evaluated; what the next frame learns
+        from this one's ``counts`` (:meth:`_lesson`; in flight: read by the next frame); the
+        visibility targets back to OpenGL and the next frame's raster pass drawn ahead
+        (:meth:`_draw_ahead`); then the frame's one synchronization and its times, or, in flight,
+        the record the next frame finishes it from (``inflight.InFlight``)."""
+        # (less the frame before's, where it was finished in this one)
+        frame.stats.times_ms["issue"] = clock.elapsed() - sum(clock.phases.get(k, 0.0) for k in ("timing", "readback", "sync"))
+        dr.eval(image)
+        if span is not None:
+            span.stop()
+        # the cost model refitted to the last frame's trace (observed after its synchronization)
+        # now, while the GPU traces this frame, not in the plan made ahead below, where the host
+        # would keep the GPU waiting once it has denoised (the same fit: nothing is observed between)
+        state.cost_model.current()
+        # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
+        # generator) now too, not before the next frame's raster pass: the same numbers
+        self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
+        learnt = None
+        if span is None:
+            # the counts, then what the next frame learns from them: on the GPU while it develops
+            # and denoises this frame (the counts' copy waits for the device passes alone)
+            learnt = self._lesson(settings, frame, plan, state, copy, counts, clock)
+        elif copy and settings.primary == "raster":  # in flight: learnt from in the next frame
+            copy.sync()  # this frame's trace done, before OpenGL gets work again (below)
+            clock.lap("sync")
+        # the visibility targets back to OpenGL (interop's unmap, on Dr.Jit's stream behind this
+        # frame's work) now, where the host waits for the GPU, not in the next frame's raster
+        # pass; nor earlier, while the GPU traces: OpenGL's side of the unmap, pending there,
+        # made the GPU switch contexts during the trace, 0.22-0.46 ms longer on every bench
+        # scene (docs/results, issue 10, stop 42)
+        self.raster.release()
+        # then the next frame's raster pass, which OpenGL runs once this frame's work is done
+        self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
+        clock.lap("ahead")
+        if span is None:
+            dr.sync_thread()  # the frame's one synchronization
+            clock.lap("sync")
+            self._account_times(settings, frame, state, learnt, clock)
+            frame.stats.times_ms["total"] = clock.elapsed() - clock.phases["timing"]
+        else:  # its times and its lesson once the GPU is done with it
+            self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
+            frame.stats.in_flight = True
+            unread = [k for k in STAGES if k != "denoise"] + ["total"]
+            unread += ["denoise"] * (frame.denoiser is not None) + ["gl"] * (settings.primary == "raster")
+            frame.stats.times_ms.update(dict.fromkeys(unread, math.nan))
+            self.clock.discard()  # no kernel history is read for it
+        frame.stats.host_ms = {k: clock.phases.get(k, 0.0) for k in HOST_PHASES}
 
     def _frame(self, settings: HybridSettings, sensor: mi.Sensor, aovs: tuple[str, ...], spp: int, layers: bool) -> _Frame:
         """The frame's fixed parts; what depends only on the settings is made once and kept."""
