@@ -304,8 +304,10 @@ def test_budget_in_a_render():
     assert [len(f.stats.selected) for f in starved] == [1, 2, 4, 0, 0]
     assert starved[-1].stats.secondary_rays == 0
     # the frames that traced nothing still timed their trace stage: the cost model's fixed part
+    # (a frame that plans nothing forgets the one observation that is an outlier, if any:
+    # CostModel.forget_slowest, so one of the first four may be gone on a busy machine)
     history = integrator.state.cost_model.history
-    assert len(history) == 5 and history[-1][0] == [0.0] * 4 and history[-1][1] == pytest.approx(
+    assert len(history) in (4, 5) and history[-1][0] == [0.0] * 4 and history[-1][1] == pytest.approx(
         starved[-1].stats.times_ms["trace"])
     # the probes' rays came from the prior, no prediction: each expected what it traced
     assert all(rays == expected for rays, _, expected in list(history)[:3]) and history[0][0] != [0.0] * 4

@@ -72,7 +72,7 @@ def test_compute_pass_keeps_thin_parts_in_order():
 
 def test_compute_pass_is_the_draw_but_for_ties():
     """Inside Sponza every tier of the compute pass is used (small triangles one per invocation,
-    medium ones per work group, large ones and those crossing the eye's plane by tiles); the
+    medium ones by 64 invocations each, large ones and those crossing the eye's plane by tiles); the
     visibility buffer is the draw's but where a pixel centre lies on a shared edge or two faces
     are at one depth, and the frame rendered from it is the same."""
     from hybrid_integrator.raster.camera import RasterCamera

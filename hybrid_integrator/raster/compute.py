@@ -8,7 +8,7 @@ camera ray per pixel in 0.3–0.8 ms. Real-time renderers that meet geometry-bou
 buffer; Kenzel et al. 2018) rasterize small triangles in compute shaders, one invocation per
 triangle, resolving visibility with atomics. This module does all of it in moderngl compute
 shaders (``shaders/visibility.comp`` explains the method: small triangles one per invocation,
-medium ones one per work group, large ones by screen tiles): the result is the draw's visibility buffer (the global triangle
+medium ones by 64 invocations each, large ones by screen tiles): the result is the draw's visibility buffer (the global triangle
 number + 1 per pixel, 0 for the background, at the camera's sub-pixel offset) in the draw's own
 target texture, so interop (``interop.Readback``) and everything after stage 1 are unchanged.
 

@@ -165,7 +165,7 @@ class Rasterizer:
 
     def compute_tiers(self) -> tuple[int, int]:
         """How many triangles the last compute pass rasterized by tiles (large, or crossing the
-        eye's plane) and by work groups (medium); the rest were small (read from the GPU)."""
+        eye's plane) and by 64 invocations each (medium); the rest were small (read from the GPU)."""
         return self._compute.tiers() if self._compute is not None else (0, 0)
 
     def read_ids(self, fbo: moderngl.Framebuffer) -> np.ndarray:

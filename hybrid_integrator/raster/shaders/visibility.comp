@@ -22,7 +22,10 @@
 //
 // Triangles wholly in front of the eye whose bounding box holds at most SMALL_PIXELS pixel
 // centres (almost all of a detailed mesh's) are rasterized by one invocation each, those of at
-// most MEDIUM_PIXELS by a work group each; both resolve visibility with atomics. With 64-bit
+// most MEDIUM_PIXELS by MEDIUM_LANES invocations each (MEDIUM_PER_GROUP triangles per work group:
+// a triangle of a few hundred pixels does not hold 256 invocations, most of them idle; on the H200
+// 64 beat 32, 128 and 256 over the bench scenes, docs/results/gpu/issue10/stop45); both resolve
+// visibility with atomics. With 64-bit
 // atomics (ONE_PASS) a pixel's word is the depth's float bits above the number, and one atomicMax
 // per covered pixel keeps the nearest hit, an exact tie the larger number: the visibility buffer
 // of Nanite (Karis 2021), in one pass over the triangles. Without them, atomicMax on the depth's
@@ -37,7 +40,7 @@
 //   0 CLEAR: per pixel: clear the atomics' depth and number, and the lists' lengths
 //   1 SMALL_DEPTH: per triangle: a small one's depth (ONE_PASS: and number); the medium and the large listed
 //   2 MEDIUM_GROUPS: one invocation: the work groups of stages 3 and 5 (an indirect dispatch)
-//   3 MEDIUM_DEPTH: per medium triangle: its depth (ONE_PASS: and number)
+//   3 MEDIUM_DEPTH: per medium triangle, MEDIUM_LANES invocations: its depth (ONE_PASS: and number)
 //   4 SMALL_NUMBERS: per triangle: a small one's number where its depth won (not run with ONE_PASS)
 //   5 MEDIUM_NUMBERS: per medium triangle: its number where its depth won (not run with ONE_PASS)
 //   6 TILES: per tile: the large triangles, the merge, the target
@@ -70,7 +73,11 @@ uniform int stage;
 const int CLEAR = 0, SMALL_DEPTH = 1, MEDIUM_GROUPS = 2, MEDIUM_DEPTH = 3, SMALL_NUMBERS = 4, MEDIUM_NUMBERS = 5, TILES = 6;
 const int SMALL_PIXELS = 64;
 const int MEDIUM_PIXELS = 4096;
-const int TILE = 32;  // pixels per tile side: 256 invocations, 4 pixels each
+const uint MEDIUM_LANES = 64u;  // invocations per medium triangle
+const uint MEDIUM_PER_GROUP = 256u / MEDIUM_LANES;  // medium triangles per work group
+const int TILE = 32;  // pixels per tile side: 256 invocations, ROWS pixels each (TILE 16 or 32)
+const int ROWS = TILE * TILE / 256;  // an invocation's pixels, in one column, 256 / TILE rows apart
+const int STEP = 256 / TILE;
 const int BATCH = 256;
 const uint MAX_GROUPS = 65535u;
 
@@ -199,12 +206,13 @@ void small_triangle(uint t, bool numbers) {
         for (int i = q.lo.x; i <= q.hi.x; ++i) write_pixel(q, t, i, j, numbers);
 }
 
-// stages MEDIUM_DEPTH and MEDIUM_NUMBERS: a medium triangle by a work group, its invocations striding over the box
-void medium_triangle(uint k, bool numbers) {
+// stages MEDIUM_DEPTH and MEDIUM_NUMBERS: a medium triangle by MEDIUM_LANES invocations (`lane` is
+// one of them) striding over its box
+void medium_triangle(uint k, uint lane, bool numbers) {
     uint t = medium[k];
     Setup q = setup(t);
     int width = q.hi.x - q.lo.x + 1, pixels = pixels_of(q);
-    for (int p = int(gl_LocalInvocationID.x); p < pixels; p += int(gl_WorkGroupSize.x))
+    for (int p = int(lane); p < pixels; p += int(MEDIUM_LANES))
         write_pixel(q, t, q.lo.x + p % width, q.lo.y + p / width, numbers);
 }
 
@@ -225,9 +233,13 @@ void tile() {
     vec2 margin = 1e-4 + 2.0 / vec2(size) * 1e-3;
     vec2 lo = vec2(pixel_x(first.x), pixel_y(first.y)) - margin, hi = vec2(pixel_x(last.x), pixel_y(last.y)) + margin;
     uint local = gl_LocalInvocationID.x;
-    ivec2 mine = first + ivec2(int(local) % TILE, int(local) / TILE);  // rows mine.y + 8 k, k < 4
-    float best[4] = float[4](-1.0, -1.0, -1.0, -1.0);
-    uint best_id[4] = uint[4](0u, 0u, 0u, 0u);
+    ivec2 mine = first + ivec2(int(local) % TILE, int(local) / TILE);  // rows mine.y + STEP k, k < ROWS
+    float best[ROWS];
+    uint best_id[ROWS];
+    for (int row = 0; row < ROWS; ++row) {
+        best[row] = -1.0;
+        best_id[row] = 0u;
+    }
     uint count = counts.listed;
     for (uint start = 0u; start < count; start += uint(BATCH)) {
         if (local == 0u) kept_count = 0u;
@@ -244,8 +256,8 @@ void tile() {
         for (uint k = 0u; k < n; ++k) {
             Listed l = batch[k];
             uint id = floatBitsToUint(l.rest.y);
-            for (int row = 0; row < 4; ++row) {
-                ivec2 p = mine + ivec2(0, 8 * row);
+            for (int row = 0; row < ROWS; ++row) {
+                ivec2 p = mine + ivec2(0, STEP * row);
                 if (p.x > last.x || p.y > last.y) continue;
                 float d = depth_at(l.e0, l.e1, l.e2, l.rest.x, pixel_x(p.x), pixel_y(p.y));
                 if (d > best[row] || (d == best[row] && d >= 0.0 && id > best_id[row])) {
@@ -256,8 +268,8 @@ void tile() {
         }
         barrier();
     }
-    for (int row = 0; row < 4; ++row) {
-        ivec2 p = mine + ivec2(0, 8 * row);
+    for (int row = 0; row < ROWS; ++row) {
+        ivec2 p = mine + ivec2(0, STEP * row);
         if (p.x > last.x || p.y > last.y) continue;
         uint pixel = uint(p.y * size.x + p.x);
 #ifdef ONE_PASS
@@ -291,9 +303,11 @@ void main() {
         }
         if (n == 0u) counts.listed = counts.medium = 0u;
     } else if (stage == MEDIUM_GROUPS) {
-        if (n == 0u) counts.medium_groups = uint[3](min(counts.medium, MAX_GROUPS), (counts.medium + MAX_GROUPS - 1u) / MAX_GROUPS, 1u);
+        uint groups = (counts.medium + MEDIUM_PER_GROUP - 1u) / MEDIUM_PER_GROUP;
+        if (n == 0u) counts.medium_groups = uint[3](min(groups, MAX_GROUPS), (groups + MAX_GROUPS - 1u) / MAX_GROUPS, 1u);
     } else if (stage == MEDIUM_DEPTH || stage == MEDIUM_NUMBERS) {
-        if (group < counts.medium) medium_triangle(group, stage == MEDIUM_NUMBERS);
+        uint k = group * MEDIUM_PER_GROUP + gl_LocalInvocationID.x / MEDIUM_LANES;
+        if (k < counts.medium) medium_triangle(k, gl_LocalInvocationID.x % MEDIUM_LANES, stage == MEDIUM_NUMBERS);
     } else if (n < triangles) {  // SMALL_DEPTH, SMALL_NUMBERS
         small_triangle(n, stage == SMALL_NUMBERS);
     }
