@@ -14,18 +14,20 @@ import statistics
 from raster_cull_probe import arguments, rasterizers, timed_draw  # scripts/ is on sys.path when a script runs
 
 
-def stage_times(raster, render, repeats: int) -> dict[int, float]:
-    """Median GL time (ms) of each stage of the compute pass ``render()`` (a timer query per dispatch)."""
+def stage_times(raster, render, repeats: int, visibility: type | None = None) -> dict[int, float]:
+    """Median GL time (ms) of each stage of the compute pass ``render()`` (a timer query per dispatch)
+    of the class ``visibility`` (default: ``compute.ComputeVisibility``)."""
     from hybrid_integrator.raster import compute
 
+    visibility = visibility or compute.ComputeVisibility
     queries, times = {}, {}
-    run = compute.ComputeVisibility._run
+    run = visibility._run
 
     def timed_run(self, stage, grid):
         with queries.setdefault(stage, raster.ctx.query(time=True)):
             run(self, stage, grid)
 
-    compute.ComputeVisibility._run = timed_run
+    visibility._run = timed_run
     try:
         for r in range(repeats + 2):
             render()
@@ -34,7 +36,7 @@ def stage_times(raster, render, repeats: int) -> dict[int, float]:
                 if r >= 2:
                     times.setdefault(stage, []).append(query.elapsed * 1e-6)
     finally:
-        compute.ComputeVisibility._run = run
+        visibility._run = run
     return {stage: statistics.median(t) for stage, t in times.items()}
 
 
