@@ -750,7 +750,7 @@ class HybridRenderer:
         self.finish()
         return None, None
 
-    def _end_frame(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan,
+    def _end_frame(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
                    copy: HostCopy | None, counts: list, image: mi.TensorXf, clock: "_HostClock",
                    span: FrameSpan | None, after: FrameSpan | None, seed: int, next_pose: np.ndarray | None) -> None:
         """The frame's end, once its work is issued: the image evaluated; what the next frame learns
