@@ -55,3 +55,20 @@ scaling = json.load(items.extractfile("items/scaling_triangles.json"))
 print("\n## Item 2: --scaling triangles\n\n| triangles | DR ms | hybrid ms | RT ms |\n|---|---|---|---|")
 for p in scaling["points"]:
     print(f"| {p['triangles']:,} | {p['dr_ms']:.2f} | {p['hybrid_ms']:.2f} | {p['rt_ms']:.2f} |")
+
+print("\n## Sponza alone, rounds 4-11 (SCENES=scenes/sponza_mirror.xml; even rounds \"new old\", odd \"old new\")\n")
+print("| round | paired Gain new | paired Gain old |\n|---|---|---|")
+gains = {"new": [], "old": []}
+for run in range(1, 12):
+    archive = tarfile.open(HERE / f"s45_{run}.tar.xz")
+    row = {}
+    for side in ("new", "old"):
+        r = next(r for r in json.load(archive.extractfile(f"s45_{run}/bench_{side}/bench.json")) if r["name"] == "sponza_mirror")
+        row[side] = r["gain_paired"]["median"]
+        gains[side].append(row[side])
+    if run > 3:
+        print(f"| {run} | {row['new']:.3f} | {row['old']:.3f} |")
+for side, values in gains.items():
+    values = sorted(values)
+    print(f"\n{side}, rounds 1-11: median {values[len(values) // 2]:.3f}, {values[0]:.3f}-{values[-1]:.3f}, "
+          f"below 1.0 in {sum(v < 1.0 for v in values)} of {len(values)}")
