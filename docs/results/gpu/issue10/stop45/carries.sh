@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Stop 45: every git-excluded carry of the issue-10 device runs, made on a fresh checkout (after
+# `bash scripts/install.sh`, from the repository root): .device (../shared/tools/device-bundle.sh,
+# then without colour-science's 76 MB htmlcov/, so that the tracked tree, .device and an old tree
+# fit a call's 64 MiB), .device_x1 and .device_x2 (Open Image Denoise's libraries in two parts,
+# cffi, pycparser, tqdm: stop31/README.md), .device_x3 (the bench scenes' files that
+# scenes/{armadillo_glass,showcase,sponza_mirror,dining_room}.xml name, from ../shared/scenes), and
+# the old tree $1 (default e30b528) in .w44. Use: stop31/extras.sh 3, 1, 2 in back-to-back calls
+# (the machine forgets /tmp after 30 s idle), then the run's script carrying .device and .w44.
+set -euo pipefail
+for d in .device .device_x1 .device_x2 .device_x3 .w44 .w45s; do
+  grep -qx "/$d/" .git/info/exclude 2>/dev/null || echo "/$d/" >> .git/info/exclude
+done
+bash ../shared/tools/device-bundle.sh
+rm -rf /tmp/device-bundle/site/colour/htmlcov
+tar -cJf .device/site.tar.xz -C /tmp/device-bundle/site .
+S=.venv/lib/python3.11/site-packages
+rm -rf /tmp/oidnb .device_x1 .device_x2 .device_x3 && mkdir -p /tmp/oidnb/pyoidn/oidn/lib .device_x1 .device_x2 .device_x3
+cp $S/pyoidn/*.py /tmp/oidnb/pyoidn/ && cp -a $S/pyoidn-2.5.1.0.dist-info /tmp/oidnb/
+(cd $S/pyoidn/oidn/lib && cp -a libOpenImageDenoise.so libOpenImageDenoise.so.2 libOpenImageDenoise.so.2.5.1 \
+  libOpenImageDenoise_core.so.2.5.1 libOpenImageDenoise_device_cuda.so.2.5.1 \
+  libOpenImageDenoise_device_cpu.so.2.5.1 libtbb.so.12 libtbb.so.12.19 /tmp/oidnb/pyoidn/oidn/lib/)
+tar -cJf /tmp/oidn.tar.xz -C /tmp/oidnb . && (cd /tmp && rm -f oidn.part0* && split -n 2 -d oidn.tar.xz oidn.part)
+mv /tmp/oidn.part00 .device_x1/ && mv /tmp/oidn.part01 .device_x2/
+python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
+  --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 -d .device_x2 cffi pycparser tqdm
+rm -rf /tmp/scn && mkdir -p /tmp/scn
+for f in $(grep -ho '\$[a-z_]*_dir/[^"]*' scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml | sort -u); do
+  case $f in
+    \$dining_dir/*) src=dining-room/${f#\$dining_dir/};;
+    \$models_dir/*) src=models/${f#\$models_dir/};;
+    \$showcase_dir/*) src=cbox/${f#\$showcase_dir/};;
+    \$sponza_dir/*) src=sponza-dabrovic/${f#\$sponza_dir/};;
+  esac
+  mkdir -p /tmp/scn/$(dirname $src) && cp ../shared/scenes/$src /tmp/scn/$src
+done
+tar -cJf .device_x3/scn.tar.xz -C /tmp/scn .
+rm -rf .w44 && mkdir .w44 && git archive ${1:-e30b528} hybrid_integrator plugins scenes scripts | tar -x -C .w44
+du -sh .device .device_x1 .device_x2 .device_x3 .w44
