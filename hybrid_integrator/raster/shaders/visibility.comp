@@ -24,7 +24,8 @@
 // centres (almost all of a detailed mesh's) are rasterized by one invocation each, those of at
 // most MEDIUM_PIXELS by MEDIUM_LANES invocations each (MEDIUM_PER_GROUP triangles per work group:
 // a triangle of a few hundred pixels does not hold 256 invocations, most of them idle; on the H200
-// 64 beat 32, 128 and 256 over the bench scenes, docs/results/gpu/issue10/stop45); both resolve
+// 64 was the fastest of 32, 64, 128 and 256, or within 0.001 ms of it, on four of the five bench
+// scenes, docs/results/gpu/issue10/stop45); both resolve
 // visibility with atomics. With 64-bit
 // atomics (ONE_PASS) a pixel's word is the depth's float bits above the number, and one atomicMax
 // per covered pixel keeps the nearest hit, an exact tie the larger number: the visibility buffer
@@ -75,9 +76,7 @@ const int SMALL_PIXELS = 64;
 const int MEDIUM_PIXELS = 4096;
 const uint MEDIUM_LANES = 64u;  // invocations per medium triangle
 const uint MEDIUM_PER_GROUP = 256u / MEDIUM_LANES;  // medium triangles per work group
-const int TILE = 32;  // pixels per tile side: 256 invocations, ROWS pixels each (TILE 16 or 32)
-const int ROWS = TILE * TILE / 256;  // an invocation's pixels, in one column, 256 / TILE rows apart
-const int STEP = 256 / TILE;
+const int TILE = 32;  // pixels per tile side: 256 invocations, 4 pixels each
 const int BATCH = 256;
 const uint MAX_GROUPS = 65535u;
 
@@ -233,13 +232,9 @@ void tile() {
     vec2 margin = 1e-4 + 2.0 / vec2(size) * 1e-3;
     vec2 lo = vec2(pixel_x(first.x), pixel_y(first.y)) - margin, hi = vec2(pixel_x(last.x), pixel_y(last.y)) + margin;
     uint local = gl_LocalInvocationID.x;
-    ivec2 mine = first + ivec2(int(local) % TILE, int(local) / TILE);  // rows mine.y + STEP k, k < ROWS
-    float best[ROWS];
-    uint best_id[ROWS];
-    for (int row = 0; row < ROWS; ++row) {
-        best[row] = -1.0;
-        best_id[row] = 0u;
-    }
+    ivec2 mine = first + ivec2(int(local) % TILE, int(local) / TILE);  // rows mine.y + 8 k, k < 4
+    float best[4] = float[4](-1.0, -1.0, -1.0, -1.0);
+    uint best_id[4] = uint[4](0u, 0u, 0u, 0u);
     uint count = counts.listed;
     for (uint start = 0u; start < count; start += uint(BATCH)) {
         if (local == 0u) kept_count = 0u;
@@ -256,8 +251,8 @@ void tile() {
         for (uint k = 0u; k < n; ++k) {
             Listed l = batch[k];
             uint id = floatBitsToUint(l.rest.y);
-            for (int row = 0; row < ROWS; ++row) {
-                ivec2 p = mine + ivec2(0, STEP * row);
+            for (int row = 0; row < 4; ++row) {
+                ivec2 p = mine + ivec2(0, 8 * row);
                 if (p.x > last.x || p.y > last.y) continue;
                 float d = depth_at(l.e0, l.e1, l.e2, l.rest.x, pixel_x(p.x), pixel_y(p.y));
                 if (d > best[row] || (d == best[row] && d >= 0.0 && id > best_id[row])) {
@@ -268,8 +263,8 @@ void tile() {
         }
         barrier();
     }
-    for (int row = 0; row < ROWS; ++row) {
-        ivec2 p = mine + ivec2(0, STEP * row);
+    for (int row = 0; row < 4; ++row) {
+        ivec2 p = mine + ivec2(0, 8 * row);
         if (p.x > last.x || p.y > last.y) continue;
         uint pixel = uint(p.y * size.x + p.x);
 #ifdef ONE_PASS

@@ -22,6 +22,11 @@ from raster_cull_probe import parser, rasterizers  # noqa: E402
 from raster_compute_probe import stage_times  # noqa: E402
 
 
+#: the stage names of every version's ``compute`` module (the tile-parts diff renamed and added some)
+STAGES = ("CLEAR", "SMALL_DEPTH", "MEDIUM_GROUPS", "GROUPS", "MEDIUM_DEPTH", "TILES_DEPTH", "TILES",
+          "SMALL_NUMBERS", "MEDIUM_NUMBERS", "TILES_NUMBERS", "RESOLVE")
+
+
 def tree_module(name: str, root: str):
     """``raster/compute.py`` of the tree at ``root`` as a module of this package (its relative
     imports are this tree's), reading that tree's shader."""
@@ -80,9 +85,7 @@ def main() -> None:
         large, medium = passes["new"].tiers()
         print(f"{name}: large {large:,}, medium {medium:,} triangles", flush=True)
         for v, p in passes.items():
-            names = {getattr(modules[v], n): n.lower() for n in dir(modules[v]) if n.isupper() and
-                     n in ("CLEAR", "SMALL_DEPTH", "MEDIUM_GROUPS", "GROUPS", "MEDIUM_DEPTH", "TILES_DEPTH", "TILES",
-                           "SMALL_NUMBERS", "MEDIUM_NUMBERS", "TILES_NUMBERS", "RESOLVE")}
+            names = {getattr(modules[v], n): n.lower() for n in STAGES if hasattr(modules[v], n)}
             stages = {names[k]: round(t, 4) for k, t in stage_times(raster, lambda v=v: render(v),
                                                                      args.repeats, type(p)).items()}
             print(f"  {v:8s} pass {statistics.median(times[v]):.4f} ms (bit for bit as new: {same[v]}); "
