@@ -97,23 +97,28 @@ def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: in
 
 def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1,
                         quality: str = "high") -> tuple[np.ndarray, list[float]]:
-    """Mitsuba ``path`` + the hybrid's denoiser, as a real-time path tracer runs it: ``path`` inside
-    Mitsuba's ``aov`` integrator (first-hit albedo and shading normal as the guides, in the same
-    render), through a copy of the sensor with a ``box`` filter (the denoiser needs uncorrelated
-    pixels), then Open Image Denoise (``denoise.py``). Timed as :func:`timed_path`, denoiser
-    included."""
+    """Mitsuba ``path`` + the hybrid's denoiser, as a real-time path tracer runs it: ``path``, then
+    the guides (first-hit albedo and shading normal) from Mitsuba's ``aov`` integrator with no
+    integrator of its own, both at the same seed through a copy of the sensor with a ``box``
+    filter (the denoiser needs uncorrelated pixels; the same seed gives the same camera rays, so
+    the guides are the path's first hits), then Open Image Denoise (``denoise.py``). Timed as
+    :func:`timed_path`, guides and denoiser included. (Given ``path`` as its nested integrator,
+    ``aov`` renders it twice: its ``render`` renders the nested integrator, and its own samples
+    call the nested integrator again for a copy of the colour that it drops; that doubled the
+    baseline's time before stop 46, docs/results/README.md.)"""
     from .denoise import Denoiser, Guides
     from .raster.camera import sensor_like
 
     size = scene.sensors()[0].film().size()
     sensor = sensor_like(scene.sensors()[0], int(size[0]), int(size[1]), rfilter="box")
-    integrator = mi.load_dict({"type": "aov", "aovs": "albedo:albedo,nn:sh_normal",
-                               "integrator": {"type": "path", "max_depth": int(max_depth)}})
+    integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
+    guides = mi.load_dict({"type": "aov", "aovs": "albedo:albedo,nn:sh_normal"})
     denoiser = Denoiser(quality)
 
     def render():
-        out = mi.render(scene, integrator=integrator, sensor=sensor, spp=spp, seed=seed)
-        return denoiser(out[..., 0:3], Guides(albedo=out[..., 3:6], normal=out[..., 6:9]))
+        colour = mi.render(scene, integrator=integrator, sensor=sensor, spp=spp, seed=seed)
+        first = mi.render(scene, integrator=guides, sensor=sensor, spp=spp, seed=seed)
+        return denoiser(colour[..., 0:3], Guides(albedo=first[..., 0:3], normal=first[..., 3:6]))
 
     return _timed(render, repeats)
 
