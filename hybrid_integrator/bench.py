@@ -24,7 +24,11 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   plus a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
   hybrid against the Brigade path tracer, Table 4; at least 1 spp, so it can take longer);
   ``path`` is timed over ``frames`` frames too, as far as they fit in a second
-  (``compare.TIME_LIMIT_S``; at least 3: the many-sample points of the curve);
+  (``compare.TIME_LIMIT_S``; at least 3: the many-sample points of the curve); ``mi.render``
+  traces the path kernel on the host at every call, as Mitsuba users call it;
+- ``path, frozen@1spp``: the same 1-spp frame replayed from a recording (``dr.freeze``, with the
+  scene's variables as the hybrid's device pass takes them: ``compare.timed_path``), the fastest
+  way Mitsuba's ``path`` runs a real-time frame here: the same image;
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
@@ -99,7 +103,7 @@ PAPER = {
                     "Hybrid": 28.283},
 }
 FIELDS = ("scene", "name", "variant", "device", "raster", "width", "height", "spp", "frames", "vertices", "triangles", "shapes",
-          "ground_truth", "dr_ms", "gl_ms", "rt_ms", "path_1spp_ms", "hybrid_ms", "gain", "gain_paired", "all_candidates_trace_ms", "equal_time",
+          "ground_truth", "dr_ms", "gl_ms", "rt_ms", "path_1spp_ms", "path_1spp_frozen_ms", "hybrid_ms", "gain", "gain_paired", "all_candidates_trace_ms", "equal_time",
           "methods", "command")
 
 
@@ -257,8 +261,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                      hybrid(f"hybrid+history, {HISTORY_PATHS} paths/hit", "hybrid", 3, temporal=True,
                             secondary_spp=HISTORY_PATHS)]
 
-    def path(method: str, path_spp: int) -> Measurement:
-        image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames)
+    def path(method: str, path_spp: int, frozen: bool = False) -> Measurement:
+        image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames, frozen=frozen)
         images.append([image] + [render_path(scene, path_spp, max_depth, seed + k)
                                  for k in range(1, error_frames(path_spp, raw=True))])
         rows.append(Measurement(method, "path", statistics.median(times), times, nan, nan, nan, path_spp))
@@ -267,6 +271,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     equal_time = None
     # the whole curve where errors are measured; its first point (the 1-spp time) always
     curve = [path(f"path@{s}spp", s) for s in (2 ** k for k in range(max_path_spp.bit_length() if accuracy else 1))]
+    frozen_path = path("path, frozen@1spp", 1, frozen=True)
     if accuracy:
         # equal time: the spp whose time fits the hybrid's frame, by a line through the curve's ends
         first, last = curve[0], curve[-1]
@@ -306,7 +311,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         "ground_truth": {"integrator": "path", "spp": gt_spp, "max_depth": max_depth,
                          "file": None if gt_file is None else str(gt_file), "cached": cached},
         "dr_ms": raster.time_ms, "gl_ms": raster.stages_ms.get("gl", 0.0), "rt_ms": rt.time_ms,
-        "path_1spp_ms": curve[0].time_ms,
+        "path_1spp_ms": curve[0].time_ms, "path_1spp_frozen_ms": frozen_path.time_ms,
         "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "gain_paired": paired, "gain_in_flight": in_flight, "all_candidates_trace_ms": trace_all,
         "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
     }
@@ -394,6 +399,11 @@ def _refine(refine: str) -> str:
         else resolved
 
 
+def _ms(value) -> str:
+    """A time for the tables; reports written before it was measured have none."""
+    return "–" if value is None else f"{value:.2f}"
+
+
 def tables(reports: list[dict], commands: list[str]) -> str:
     """Table 3 and Table 4 layouts beside the paper's figures, then every method per scene."""
     first = reports[0]
@@ -406,14 +416,15 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",
              "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL pass "
-             "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene.", "",
+             "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene "
+             "(`mi.render`; frozen: replayed from a recording, `dr.freeze`, as the hybrid's frame is).", "",
              "Gain: RT / Hybrid of the two rows; paired: the same two frames rendered in turn, the median "
              "ratio of the pairs [quartiles] (`bench.paired_gain`); 2 in flight: the same with "
              "`frames_in_flight=2` (`inflight.py`), in turns of five frames, four measured: the median ratio "
              "of the turns' medians, and the two sides' median frames (device time, CUDA events).", "",
              "| scene | vertices | triangles | shapes | DR | GL pass | RT | Hybrid | Gain | Gain, paired | "
-             "Gain, 2 in flight (Hybrid / RT ms) | `path` 1 spp | paper (GTX 570): DR / RT / Hybrid / Gain |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "Gain, 2 in flight (Hybrid / RT ms) | `path` 1 spp | `path` 1 spp, frozen | paper (GTX 570): DR / RT / Hybrid / Gain |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in reports:
         p = PAPER.get(r["name"], {})
         paper = f"{p['DR']} / {p['RT']} / {p['Hybrid']} / {p['Gain']}" if "RT" in p else "–"
@@ -423,7 +434,7 @@ def tables(reports: list[dict], commands: list[str]) -> str:
         flight = f"{f['median']:.3f} ({f['hybrid_ms']:.2f} / {f['rt_ms']:.2f})" if f else "–"
         lines.append(f"| {r['name']} | {r['vertices']:,} | {r['triangles']:,} | {r['shapes']} | {r['dr_ms']:.2f} | "
                      f"{r['gl_ms']:.2f} | {r['rt_ms']:.2f} | {r['hybrid_ms']:.2f} | {r['gain']:.2f} | {paired} | "
-                     f"{flight} | {r['path_1spp_ms']:.2f} | {paper} |")
+                     f"{flight} | {r['path_1spp_ms']:.2f} | {_ms(r.get('path_1spp_frozen_ms'))} | {paper} |")
     if all(r["equal_time"] for r in reports):
         lines += _table4(reports)
     for r in reports:
@@ -482,7 +493,8 @@ def chart(report: dict, path: Path) -> None:
         ax.plot([m["time_ms"] for m in ms], [m["flip"] for m in ms], "o-", label=label)
         for m in ms:
             ax.annotate(tag(m), (m["time_ms"], m["flip"]), fontsize=7, xytext=(3, 3), textcoords="offset points")
-    for name, marker in (("raster", "s"), ("hybrid, no denoiser", "P"), ("rt-baseline", "^"), ("path@equal-time", "*")):
+    for name, marker in (("raster", "s"), ("hybrid, no denoiser", "P"), ("rt-baseline", "^"), ("path@equal-time", "*"),
+                         ("path, frozen@1spp", "v")):
         m = by_name.get(name)
         if m is None:
             continue

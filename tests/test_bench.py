@@ -30,7 +30,7 @@ def test_bench_report_has_every_field(tmp_path):
                      "hybrid, denoiser 'high'", "hybrid 2 spp", "hybrid 4 spp", "hybrid 2 spp, denoiser 'high'",
                      "hybrid+history", "hybrid+history@1", "hybrid+history@2",
                      "hybrid+history, 8 paths/hit", "hybrid+history, 8 paths/hit@1", "hybrid+history, 8 paths/hit@2",
-                     "path@1spp", "path@2spp", "path@equal-time", "path@history-time",
+                     "path@1spp", "path@2spp", "path, frozen@1spp", "path@equal-time", "path@history-time",
                      "path@history-time, 8 paths/hit", "path+denoiser@1spp", "path+denoiser@2spp", "path+denoiser@4spp"]
     by_name = {m["method"]: m for m in report["methods"]}
     for name in ("hybrid+history", "hybrid+history, 8 paths/hit"):  # all frames, and the first ones
@@ -39,6 +39,11 @@ def test_bench_report_has_every_field(tmp_path):
     one, eight = by_name["hybrid+history"], by_name["hybrid+history, 8 paths/hit"]
     assert one["pixels_traced"] == eight["pixels_traced"] and eight["secondary_rays"] > 6 * one["secondary_rays"]
     assert by_name["path@history-time, 8 paths/hit"]["spp"] >= by_name["path@history-time"]["spp"]
+    # path replayed from a recording: the same frames as mi.render's (their error the same, to the
+    # film's atomic sums), its time in Table 3
+    plain, frozen = by_name["path@1spp"], by_name["path, frozen@1spp"]
+    assert frozen["flip"] == pytest.approx(plain["flip"], abs=1e-4) and frozen["time_ms"] == report["path_1spp_frozen_ms"]
+    assert f"| {report['path_1spp_ms']:.2f} | {report['path_1spp_frozen_ms']:.2f} |" in (tmp_path / "bench.md").read_text()
     for m in report["methods"]:
         assert set(m) == {f.name for f in fields(Measurement)}
         assert m["time_ms"] > 0 and 0 < m["flip"] < 1 and math.isfinite(m["rel_mse"]) and m["delta_e2000"] >= 0
