@@ -90,33 +90,44 @@ def _timed(render, repeats: int) -> tuple[np.ndarray, list[float]]:
     return np.array(image, dtype=np.float32)[..., :3], times
 
 
-def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1,
-               frozen: bool = False) -> tuple[np.ndarray, list[float]]:
-    """Mitsuba ``path`` rendered ``repeats`` times after one warm-up render (:func:`_timed`).
-    ``frozen``: ``mi.render`` replayed from a recording (``dr.freeze``, through the same snapshot
-    of the scene's variables as the hybrid's device pass, ``frozen.FrozenScene``; the sensor and
-    the seed its inputs), the way a real-time frame would call it: the same image, without the
-    host's tracing of the path kernel on every call (on this project's CPU, Sponza at 320×180,
-    95.6 → 80.2 ms, of which 79.1 ms of kernels)."""
+def path_renders(scene: mi.Scene, sensor: mi.Sensor, integrators: list, spp: int, frozen: bool = False):
+    """A function of the seed that renders ``integrators`` in turn through ``sensor`` at ``spp``
+    (a tuple of their images). ``frozen``: the renders replayed from one recording (``dr.freeze``,
+    through the same snapshot of the scene's variables as the hybrid's device pass,
+    ``frozen.FrozenScene``; the sensor and the seed its inputs), as a real-time frame would call
+    them: the same images (to the order of the film's atomic sums), without the host tracing
+    every kernel again on every call (``path`` on this project's CPU, Sponza at 320×180: 95.6 →
+    80.2 ms per frame, of which 79.1 ms of kernels)."""
+    def render(scene, sensor, seed):
+        return tuple(mi.render(scene, sensor=sensor, integrator=i, spp=spp, seed=seed) for i in integrators)
+
     if not frozen:
-        return _timed(lambda: render_path(scene, spp, max_depth, seed), repeats)
+        return lambda seed: render(scene, sensor, seed)
     from .frozen import FrozenScene
 
+    replay = FrozenScene(scene).freeze(render)
+    return lambda seed: replay(sensor, dr.opaque(mi.UInt32, seed))
+
+
+def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1,
+               frozen: bool = False) -> tuple[np.ndarray, list[float]]:
+    """Mitsuba ``path`` rendered ``repeats`` times after one warm-up render (:func:`_timed`),
+    called as ``mi.render`` or ``frozen`` (:func:`path_renders`)."""
     integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
-    render = FrozenScene(scene).freeze(lambda scene, sensor, seed: mi.render(scene, sensor=sensor, integrator=integrator,
-                                                                             spp=spp, seed=seed))
-    sensor, opaque = scene.sensors()[0], dr.opaque(mi.UInt32, seed)
-    render(sensor, dr.opaque(mi.UInt32, seed + 1))  # the recording, at another seed: the same kernels
-    return _timed(lambda: render(sensor, opaque), repeats)
+    render = path_renders(scene, scene.sensors()[0], [integrator], spp, frozen)
+    if frozen:
+        render(seed + 1)  # the recording, at another seed: the same kernels
+    return _timed(lambda: render(seed)[0], repeats)
 
 
 def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: int = 1,
-                        quality: str = "high") -> tuple[np.ndarray, list[float]]:
+                        quality: str = "high", frozen: bool = True) -> tuple[np.ndarray, list[float]]:
     """Mitsuba ``path`` + the hybrid's denoiser, as a real-time path tracer runs it: ``path``, then
     the guides (first-hit albedo and shading normal) from Mitsuba's ``aov`` integrator with no
     integrator of its own, both at the same seed through a copy of the sensor with a ``box``
     filter (the denoiser needs uncorrelated pixels; the same seed gives the same camera rays, so
-    the guides are the path's first hits), then Open Image Denoise (``denoise.py``). Timed as
+    the guides are the path's first hits), replayed from one recording (``frozen``, as the
+    hybrid's frame is: :func:`path_renders`), then Open Image Denoise (``denoise.py``). Timed as
     :func:`timed_path`, guides and denoiser included. (Given ``path`` as its nested integrator,
     ``aov`` renders it twice: its ``render`` renders the nested integrator, and its own samples
     call the nested integrator again for a copy of the colour that it drops; that doubled the
@@ -126,16 +137,18 @@ def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, re
 
     size = scene.sensors()[0].film().size()
     sensor = sensor_like(scene.sensors()[0], int(size[0]), int(size[1]), rfilter="box")
-    integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
-    guides = mi.load_dict({"type": "aov", "aovs": "albedo:albedo,nn:sh_normal"})
+    integrators = [mi.load_dict({"type": "path", "max_depth": int(max_depth)}),
+                   mi.load_dict({"type": "aov", "aovs": "albedo:albedo,nn:sh_normal"})]
+    renders = path_renders(scene, sensor, integrators, spp, frozen)
     denoiser = Denoiser(quality)
 
-    def render():
-        colour = mi.render(scene, integrator=integrator, sensor=sensor, spp=spp, seed=seed)
-        first = mi.render(scene, integrator=guides, sensor=sensor, spp=spp, seed=seed)
+    def render(seed):
+        colour, first = renders(seed)
         return denoiser(colour[..., 0:3], Guides(albedo=first[..., 0:3], normal=first[..., 3:6]))
 
-    return _timed(render, repeats)
+    if frozen:
+        render(seed + 1)  # the recording, at another seed: the same kernels
+    return _timed(lambda: render(seed), repeats)
 
 
 def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
