@@ -174,7 +174,8 @@ def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int
 def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, seed: int = 0,
             out_dir: Path | None = None, **properties) -> dict:
     """Render every method, measure it against the ground truth; write images and a report to
-    ``out_dir`` when given. ``properties`` are the hybrid integrator's."""
+    ``out_dir`` when given. ``properties`` are the hybrid integrator's. ``path`` is timed frozen,
+    as the hybrid's frame is (:func:`timed_path`)."""
     import hybrid_integrator as hi
 
     scene_path = Path(scene_path)
@@ -196,7 +197,9 @@ def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, s
         rows.append(MethodResult(name, result.stats.times_ms["total"], error.flip, error.rel_mse, error.delta_e2000,
                                  result.stats.secondary_rays, result.stats.pixels_traced))
         images[name], maps[name] = image, error_maps
-    path_image, (path_ms,) = timed_path(scene, spp, max_depth, seed)
+    # replayed from a recording, as the hybrid's frame is (path_renders): mi.render alone would add
+    # its host's tracing of the kernel, 1.7-22 ms per frame on an H200 (docs/results, issue 10, stop 46)
+    path_image, (path_ms,) = timed_path(scene, spp, max_depth, seed, frozen=True)
     error, maps["path"] = image_error(path_image, reference)
     rows.append(MethodResult("path", path_ms, error.flip, error.rel_mse, error.delta_e2000))
     images["path"] = path_image
