@@ -29,6 +29,9 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 - ``path, frozen@1spp``: the same 1-spp frame replayed from a recording (``dr.freeze``, with the
   scene's variables as the hybrid's device pass takes them: ``compare.timed_path``), the fastest
   way Mitsuba's ``path`` runs a real-time frame here: the same image;
+- with accuracy, also the rest of the time–error plane: the hybrid without the denoiser, with
+  OIDN 'high', at 2 and 4 spp, with history; and ``path+denoiser@Nspp``: ``path`` and its guides
+  replayed from one recording, then the same denoiser at 'high' (``compare.timed_path_denoised``);
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
