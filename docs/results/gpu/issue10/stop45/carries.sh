@@ -3,7 +3,8 @@
 # `bash scripts/install.sh`, from the repository root): .device (../shared/tools/device-bundle.sh,
 # then without colour-science's 76 MB htmlcov/, so that the tracked tree, .device and an old tree
 # fit a call's 64 MiB), .device_x1 and .device_x2 (Open Image Denoise's libraries in two parts,
-# cffi, pycparser, tqdm: stop31/README.md), .device_x3 (the bench scenes' files that
+# cffi, pycparser, tqdm: stop31/README.md; since stop 46 also flip-evaluator, which the bench's
+# accuracy needs and the bundle lacks), .device_x3 (the bench scenes' files that
 # scenes/{armadillo_glass,showcase,sponza_mirror,dining_room}.xml name, from ../shared/scenes), and
 # the old tree $1 (default e30b528) in .w44. Use: stop31/extras.sh 3, 1, 2 in back-to-back calls
 # (the machine forgets /tmp after 30 s idle), then the run's script carrying .device and .w44.
@@ -23,7 +24,7 @@ cp $S/pyoidn/*.py /tmp/oidnb/pyoidn/ && cp -a $S/pyoidn-2.5.1.0.dist-info /tmp/o
 tar -cJf /tmp/oidn.tar.xz -C /tmp/oidnb . && (cd /tmp && rm -f oidn.part0* && split -n 2 -d oidn.tar.xz oidn.part)
 mv /tmp/oidn.part00 .device_x1/ && mv /tmp/oidn.part01 .device_x2/
 python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
-  --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 -d .device_x2 cffi pycparser tqdm
+  --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 -d .device_x2 cffi pycparser tqdm flip-evaluator
 rm -rf /tmp/scn && mkdir -p /tmp/scn
 for f in $(grep -ho '\$[a-z_]*_dir/[^"]*' scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml | sort -u); do
   case $f in
