@@ -94,10 +94,10 @@ def path_renders(scene: mi.Scene, sensor: mi.Sensor, integrators: list, spp: int
     """A function of the seed that renders ``integrators`` in turn through ``sensor`` at ``spp``
     (a tuple of their images). ``frozen``: the renders replayed from one recording (``dr.freeze``,
     through the same snapshot of the scene's variables as the hybrid's device pass,
-    ``frozen.FrozenScene``; the sensor and the seed its inputs), as a real-time frame would call
-    them: the same images (to the order of the film's atomic sums), without the host tracing
-    every kernel again on every call (``path`` on this project's CPU, Sponza at 320×180: 95.6 →
-    80.2 ms per frame, of which 79.1 ms of kernels)."""
+    ``frozen.FrozenScene``; the sensor and the seed its inputs; recorded here), as a real-time
+    frame would call them: the same images (to the order of the film's atomic sums), without the
+    host tracing every kernel again on every call (``path`` on this project's CPU, Sponza at
+    320×180: 95.6 → 80.2 ms per frame, of which 79.1 ms of kernels)."""
     def render(scene, sensor, seed):
         return tuple(mi.render(scene, sensor=sensor, integrator=i, spp=spp, seed=seed) for i in integrators)
 
@@ -106,6 +106,7 @@ def path_renders(scene: mi.Scene, sensor: mi.Sensor, integrators: list, spp: int
     from .frozen import FrozenScene
 
     replay = FrozenScene(scene).freeze(render)
+    replay(sensor, dr.opaque(mi.UInt32, 0))  # the recording (any seed: the same kernels)
     return lambda seed: replay(sensor, dr.opaque(mi.UInt32, seed))
 
 
@@ -115,8 +116,6 @@ def timed_path(scene: mi.Scene, spp: int, max_depth: int, seed: int, repeats: in
     called as ``mi.render`` or ``frozen`` (:func:`path_renders`)."""
     integrator = mi.load_dict({"type": "path", "max_depth": int(max_depth)})
     render = path_renders(scene, scene.sensors()[0], [integrator], spp, frozen)
-    if frozen:
-        render(seed + 1)  # the recording, at another seed: the same kernels
     return _timed(lambda: render(seed)[0], repeats)
 
 
@@ -146,8 +145,6 @@ def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, re
         colour, first = renders(seed)
         return denoiser(colour[..., 0:3], Guides(albedo=first[..., 0:3], normal=first[..., 3:6]))
 
-    if frozen:
-        render(seed + 1)  # the recording, at another seed: the same kernels
     return _timed(lambda: render(seed), repeats)
 
 

@@ -27,7 +27,7 @@ def main() -> None:
                           sponza_dir=str(ROOT.parent / "shared/scenes/sponza-dabrovic"))
     frames = renderer(scene)
     path = path_renders(scene, scene.sensors()[0], [mi.load_dict({"type": "path"})], 1, frozen=True)
-    path(99), path(98)  # the recordings
+    path(99), path(98)  # warm-up (path_renders made the first recording; Dr.Jit may record once more)
     sides = {"hybrid": HybridSettings(denoise=False), "rt": HybridSettings(denoise=False, primary="raytrace")}
     states = {k: FrameState() for k in sides}
     for k, settings in sides.items():  # warm-up: compilation, recordings, the cost model
