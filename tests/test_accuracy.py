@@ -158,10 +158,11 @@ def test_shadow_tier_traces_shadows_alone_with_the_learnt_indirect_light():
     the trace time spent with tiers gives frames far better than the raster layer and about as
     good as the same time spent on whole objects only; the tiers spawn shadow rays alone, and the
     indirect term is learnt. What each run picks depends on its cost model, calibrated on this
-    machine's timings: this test's steps run four times in one process (stop 46), the tiers' mean
-    FLIP over four frames was 0.045 and 0.055 lower, 0.0015 and 0.012 higher than without, and a
-    single frame up to 0.022 higher. So the test compares the mean of four frames, within 0.02;
-    one frame within 0.005, as before, failed once in seven runs of the suite."""
+    machine's timings: this test's steps run four times in one process
+    (docs/results/gpu/issue10/stop46/shadow_tier_cpu.py), the tiers' mean FLIP over four frames
+    was 0.029, 0.127 and 0.096 lower and 0.007 higher than without, and a single frame up to 0.016
+    higher. So the test compares the mean of four frames, within 0.02; one frame within 0.005, as
+    before, failed once in seven runs of the suite."""
     scene = load(ROOT / "scenes" / "sponza_mirror.xml", resx=128, resy=72, sponza_dir=str(SHARED_SCENES / "sponza-dabrovic"))
     truth = reference(scene, spp=128)
     camera = camera_of(scene)
