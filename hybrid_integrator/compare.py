@@ -97,7 +97,7 @@ def path_renders(scene: mi.Scene, sensor: mi.Sensor, integrators: list, spp: int
     ``frozen.FrozenScene``; the sensor and the seed its inputs; recorded here), as a real-time
     frame would call them: the same images (to the order of the film's atomic sums), without the
     host tracing every kernel again on every call (``path`` on this project's CPU, Sponza at
-    320×180: 95.6 → 80.2 ms per frame, of which 79.1 ms of kernels)."""
+    320×180: 91.2 → 77.7 ms per frame, docs/results/gpu/issue10/stop46/baselines_cpu.py)."""
     def render(scene, sensor, seed):
         return tuple(mi.render(scene, sensor=sensor, integrator=i, spp=spp, seed=seed) for i in integrators)
 
