@@ -268,7 +268,8 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     yet calibrated, when the 1, 2, then 4 most relevant objects are traced, whatever the budget
     (probes that measure the machine; whole objects, not shadow tiers). ``nested`` and ``greedy``
     run on the arrays; ``graph`` and ``exact`` (yardsticks) on one node per candidate
-    (``selection_graph``)."""
+    (``selection_graph``). An object's whole row and its shadow tier are two options of one
+    object: it is traced, and charged, once (``selection_graph``'s options of one object)."""
     c = objects if isinstance(objects, Candidates) else _as_candidates(objects)
     if budget_ms <= 0:
         return _plan(c, np.arange(len(c)), float("inf"))
@@ -281,10 +282,21 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     if room <= 0 or not len(c):
         return _plan(c, [], pass_budget)
     cost = model.extra_rows(c.rays)
-    if method in ("nested", "greedy"):
-        return _plan(c, select_rows(method, cost, c.relevance, room), pass_budget)
-    nodes = [Node(int(i), float(cost[i]), float(c.relevance[i])) for i in range(len(c))]
+    if method in ("nested", "greedy"):  # an object's whole row upgrades its shadow tier (selection_graph.py)
+        return _plan(c, select_rows(method, cost, c.relevance, room, _tier_of_whole(c)), pass_budget)
+    nodes = [Node(int(i), float(cost[i]), float(c.relevance[i]), group=int(c.index[i])) for i in range(len(c))]
     return _plan(c, [node.key for node in select(method, nodes, room, pointers)], pass_budget)
+
+
+def _tier_of_whole(c: Candidates) -> np.ndarray:
+    """Per row, the row of its object's shadow tier where the row is the object whole (else -1)."""
+    base = np.full(len(c), -1, dtype=np.int64)
+    tiers = np.nonzero(c.tier)[0]
+    if len(tiers):
+        row = np.full(int(c.index.max()) + 1, -1, dtype=np.int64)
+        row[c.index[~c.tier]] = np.nonzero(~c.tier)[0]
+        base[row[c.index[tiers]]] = tiers
+    return base
 
 
 def _as_candidates(objects: list[ObjectRelevance]) -> Candidates:

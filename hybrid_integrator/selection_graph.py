@@ -18,6 +18,16 @@ that fits is worth more. **Exact**: the 0/1 knapsack optimum
 (maximum total R with total C within the budget), solved as a mixed-integer linear program by
 SciPy's HiGHS (``scipy.optimize.milp``); meant for small N, as a yardstick.
 
+**Options of one object.** An object may be a candidate twice: traced whole, or only by its
+shadow tier (``heuristic.py``). The two are options of one object, not two objects: tracing it
+whole costs the whole row's time, not that time plus its tier's. Nodes of one ``group`` exclude
+each other (``graph``, ``exact``); the ratio-ordered selectors (``nested``, ``greedy``) take the
+whole row as an *upgrade* of the tier instead (:func:`upgrades`): an item of the cost and
+relevance it adds to the tier, taken only after it, as for a multiple-choice knapsack's LP
+relaxation. Counted as two objects (before issue 10's stop 47), the whole row's cost was spent on
+top of its tier's: on the H200 a Sponza frame at 75 % of its trace time stopped at 4.2 ms of
+predicted trace with 9.3 ms of room (``docs/results/gpu/issue10/stop47``).
+
 ``scripts/selection_benchmark.py`` measures, on random instances, how much of the optimum's
 relevance each captures and what it costs; ``docs/results/`` holds the numbers.
 """
@@ -35,6 +45,7 @@ class Node:
     key: object  # the object's identity (its shape index, or a label)
     cost: float
     relevance: float
+    group: object = None  # nodes of one group (the options of one object) exclude each other; None: its own
 
 
 @dataclass
@@ -73,7 +84,10 @@ class SelectionGraph:
             i = self.links[i][0]
         chosen = self.nodes[i]
         self.moved.append(chosen)
-        self.nodes = [n for k, n in enumerate(self.nodes) if k != i and k >= start]
+        # the chosen node's other options (its group) are not traced besides it
+        rivals = [k for k, n in enumerate(self.nodes) if k != i and chosen.group is not None and n.group == chosen.group]
+        self.moved.extend(self.nodes[k] for k in rivals if k >= start)
+        self.nodes = [n for k, n in enumerate(self.nodes) if k != i and k >= start and k not in rivals]
         self._link()
         return chosen
 
@@ -103,42 +117,101 @@ def select_greedy(nodes: list[Node], budget: float) -> list[Node]:
 def _rows_of(method: str, nodes: list[Node], budget: float) -> list[Node]:
     cost = np.array([n.cost for n in nodes], dtype=np.float64)
     relevance = np.array([n.relevance for n in nodes], dtype=np.float64)
-    return [nodes[int(i)] for i in select_rows(method, cost, relevance, budget)]
+    base = np.full(len(nodes), -1, dtype=np.int64)  # of two options of one object, the costlier upgrades the other
+    for members in _groups(nodes):
+        if len(members) > 2:
+            raise ValueError(f"{method}: an object has {len(members)} options; up to two (whole and shadow tier) are supported")
+        if len(members) == 2:
+            low, high = sorted(members, key=lambda i: cost[i])
+            base[high] = low
+    return [nodes[int(i)] for i in select_rows(method, cost, relevance, budget, base)]
+
+
+def _groups(nodes: list[Node]) -> list[list[int]]:
+    """The indices of the nodes of each ``group`` (nodes without one are left out)."""
+    groups: dict = {}
+    for i, n in enumerate(nodes):
+        if n.group is not None:
+            groups.setdefault(n.group, []).append(i)
+    return list(groups.values())
 
 
 def select_exact(nodes: list[Node], budget: float) -> list[Node]:
-    """The 0/1 knapsack optimum (HiGHS MILP)."""
+    """The 0/1 knapsack optimum (HiGHS MILP), at most one node per ``group``."""
     from scipy.optimize import Bounds, LinearConstraint, milp
 
     if not nodes:
         return []
     cost = np.array([n.cost for n in nodes], dtype=np.float64)
     relevance = np.array([n.relevance for n in nodes], dtype=np.float64)
-    result = milp(-relevance, constraints=LinearConstraint(cost[None, :], -np.inf, float(budget)),
+    rows = [cost[None, :]]
+    upper = [float(budget)]
+    for members in (m for m in _groups(nodes) if len(m) > 1):  # at most one option per object
+        row = np.zeros(len(nodes))
+        row[members] = 1.0
+        rows.append(row[None, :])
+        upper.append(1.0)
+    result = milp(-relevance, constraints=LinearConstraint(np.vstack(rows), -np.inf, np.array(upper)),
                   integrality=np.ones(len(nodes)), bounds=Bounds(0, 1))
     if result.x is None:
         return []
     return [n for n, x in zip(nodes, result.x) if x > 0.5]
 
 
-def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: float) -> np.ndarray:
+def upgrades(cost: np.ndarray, relevance: np.ndarray, base: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rows as items of the ratio-ordered selectors where a row upgrades another (``base[i]``
+    ≥ 0: row ``i`` is an option of the same object as row ``base[i]``, costlier and meant to
+    replace it; -1: none). An upgrade becomes the item of what it adds (its cost and relevance
+    less its base's), taken only after its base (``requires``). Where that item would be worth
+    at least as much per millisecond as its base (or costs nothing more), the base is left out
+    (``requires`` -2) and the upgrade stays whole, on its own: the LP relaxation of a
+    multiple-choice knapsack takes an object's options in decreasing order of what each adds per
+    millisecond, and a dominated base would only delay the upgrade. Returns the items' cost and
+    relevance and, per row, the row it requires (-1: none, -2: left out)."""
+    cost, relevance = np.array(cost, dtype=np.float64), np.array(relevance, dtype=np.float64)
+    requires = np.full(len(cost), -1, dtype=np.int64)
+    up = np.nonzero(base >= 0)[0]
+    low = base[up]
+    added, gained = cost[up] - cost[low], relevance[up] - relevance[low]
+    dominated = (added <= 0) | (gained * cost[low] >= relevance[low] * added)
+    requires[low[dominated]] = -2
+    kept = ~dominated
+    cost[up[kept]], relevance[up[kept]], requires[up[kept]] = added[kept], gained[kept], low[kept]
+    return cost, relevance, requires
+
+
+def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: float,
+                base: np.ndarray | None = None) -> np.ndarray:
     """:func:`select_nested` or :func:`select_greedy` on arrays (a row per node, in any order):
-    the rows picked. Thousands of nodes take well under a millisecond."""
-    order = np.argsort(-relevance / np.maximum(cost, 1e-12), kind="stable")
-    spent = np.cumsum(cost[order])
+    the rows picked. ``base`` (per row, -1: none) marks rows that upgrade another option of the
+    same object (:func:`upgrades`); of an object's options the costliest picked is returned.
+    Thousands of nodes take well under a millisecond."""
+    whole_cost, whole_relevance = np.asarray(cost, dtype=np.float64), np.asarray(relevance, dtype=np.float64)
+    requires = np.full(len(whole_cost), -1, dtype=np.int64)
+    cost, relevance = whole_cost, whole_relevance
+    if base is not None and (np.asarray(base) >= 0).any():
+        cost, relevance, requires = upgrades(whole_cost, whole_relevance, np.asarray(base))
+    rows = np.nonzero(requires != -2)[0]
+    # a base before its upgrades: upgrades() keeps only those adding less per millisecond than it
+    order = rows[np.argsort(-relevance[rows] / np.maximum(cost[rows], 1e-12), kind="stable")]
     if method == "nested":
-        return order[:int(np.searchsorted(spent, budget, side="right"))]
-    chosen, time_left = [], float(budget)
-    for row, c in zip(order.tolist(), cost[order].tolist()):
-        if c <= time_left:
-            chosen.append(row)
-            time_left -= c
-    fits = np.nonzero(cost <= budget)[0]
-    if len(fits):
-        best = int(fits[np.argmax(relevance[fits])])
-        if relevance[best] > relevance[chosen].sum():
-            return np.array([best])
-    return np.array(chosen, dtype=np.int64)
+        chosen = order[:int(np.searchsorted(np.cumsum(cost[order]), budget, side="right"))]
+    else:
+        taken = np.zeros(len(cost), dtype=bool)
+        time_left = float(budget)
+        for row, c in zip(order.tolist(), cost[order].tolist()):
+            if c <= time_left and (requires[row] < 0 or taken[requires[row]]):
+                taken[row] = True
+                time_left -= c
+        chosen = np.nonzero(taken)[0]
+        # the single option (at its whole cost) that fits and alone is worth more
+        fits = np.nonzero(whole_cost <= budget)[0]
+        if len(fits):
+            best = int(fits[np.argmax(whole_relevance[fits])])
+            if whole_relevance[best] > relevance[chosen].sum():
+                return np.array([best])
+    replaced = requires[chosen]
+    return chosen[~np.isin(chosen, replaced[replaced >= 0])].astype(np.int64)
 
 
 def select(method: str, nodes: list[Node], budget: float, pointers: int = 4) -> list[Node]:

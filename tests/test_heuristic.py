@@ -13,7 +13,7 @@ import hybrid_integrator as hi
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import CostModel, plan_frame
 from hybrid_integrator.raster.camera import sensor_to_world
-from hybrid_integrator.heuristic import BLOCKS, KINDS, SPREAD, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
+from hybrid_integrator.heuristic import BLOCKS, KINDS, SPREAD, Candidates, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
 
@@ -222,6 +222,29 @@ def test_plan_fits_the_budget():
     assert tight.traced == {0}
     assert model.predict(tight.rays) <= 6.0
     assert plan_frame(objects, "exact", 0.1, 1, model).traced == set()
+
+
+@pytest.mark.parametrize("method", ["nested", "greedy", "graph", "exact"])
+def test_plan_charges_an_object_traced_whole_once(method):
+    """Object 0 whole (4 rays: 4 ms) or by its shadow tier (1 ms), object 1 whole (3 ms). With 4.5 ms
+    of room the plan traces 0's tier and 1; with 7.5, 0 whole and 1 (7 ms): the whole row costs
+    its own rays, not its tier's on top (which left 0's tier alone traced before stop 47)."""
+    rays = np.zeros((3, len(KINDS)))
+    rays[0, KINDS.index("shadow")], rays[0, KINDS.index("indirect")] = 1.0, 3.0
+    rays[1, KINDS.index("shadow")], rays[1, KINDS.index("indirect")] = 1.0, 2.0
+    rays[2, KINDS.index("shadow")] = 1.0
+    c = Candidates(index=np.array([0, 1, 0]), pixels=np.array([10, 10, 10]), visibility=np.ones(3),
+                   relevance=np.array([0.4, 0.2, 0.3]), rays=rays, terms=None, tier=np.array([False, False, True]))
+    model = CostModel(rates=dict.fromkeys(KINDS, 1.0), launch_ms=0.5)
+    model.history.extend([([0.0] * 4, 0.5, [0.0] * 4)] * 3)  # as if calibrated
+    tight, roomy = plan_frame(c, method, 5.0, 1, model), plan_frame(c, method, 8.0, 1, model)
+    for plan in (tight, roomy):
+        assert len(plan.traced) == len(plan.picked) and model.predict(plan.rays) <= plan.pass_budget_ms
+    if method == "graph":  # the paper's walk takes the costliest node that fits, 0 whole, first
+        assert tight.picked.tolist() == [0]
+        return
+    assert sorted(tight.picked.tolist()) == [1, 2] and tight.rays == {"shadow": 2.0, "indirect": 2.0}
+    assert sorted(roomy.picked.tolist()) == [0, 1] and model.predict(roomy.rays) == pytest.approx(7.5)
 
 
 class _SteadyMargin(CostModel):

@@ -83,3 +83,50 @@ def test_greedy_keeps_a_large_relevant_object_that_ratio_order_leaves_out():
     small, large = Node("small", 1.0, 2.0), Node("large", 10.0, 10.0)
     assert [n.key for n in select_greedy([small, large], 10.0)] == ["large"]
     assert {n.key for n in select_greedy([small, large], 11.0)} == {"small", "large"}
+
+
+def options(tier=(1.0, 0.3), whole=(4.0, 0.4), other=(3.0, 0.2)):
+    """One object with two options (its shadow tier and the object whole: group "a") and another
+    object: (cost, relevance) each."""
+    return [Node("a tier", *tier, group="a"), Node("a whole", *whole, group="a"), Node("b", *other, group="b")]
+
+
+@pytest.mark.parametrize("budget, nested", [(4.5, {"a tier", "b"}), (7.5, {"a whole", "b"}), (3.5, {"a tier"})])
+def test_an_objects_options_are_not_counted_twice(budget, nested):
+    """Tracing an object whole costs its whole row, not that plus its tier's: the whole row is the
+    tier's upgrade (what it adds: 3 ms, 0.1), taken after the tier. Counted as two objects, nested
+    selection stopped at the whole row (1 + 4 ms) with budget left for b; and no selector returns
+    both options of one object."""
+    for method in ("nested", "greedy", "graph", "exact"):
+        chosen = select(method, options(), budget)
+        keys = {n.key for n in chosen}
+        assert not {"a tier", "a whole"} <= keys, (method, keys)
+        assert sum(n.cost for n in chosen) <= budget + 1e-9
+    assert {n.key for n in select("nested", options(), budget)} == nested
+    assert sum(n.relevance for n in select("exact", options(), budget)) == pytest.approx(
+        sum(n.relevance for n in options() if n.key in nested))
+
+
+def test_a_dominated_tier_is_passed_over():
+    """A whole row whose upgrade adds more per millisecond than its tier gives (0.3 for 2 ms over a
+    tier of 0.1 for 1 ms) stands alone: nested takes it before b, not the tier first."""
+    nodes = options(tier=(1.0, 0.1), whole=(3.0, 0.4), other=(2.0, 0.15))
+    assert {n.key for n in select("nested", nodes, 3.5)} == {"a whole"}
+    assert {n.key for n in select("nested", nodes, 5.0)} == {"a whole", "b"}
+
+
+def test_nested_budgets_only_upgrade():
+    """With options, more budget still only adds: an object goes from nothing to its tier to whole."""
+    rng = np.random.default_rng(3)
+    nodes = []
+    for k in range(8):
+        tier_cost, tier_r = rng.uniform(0.2, 1.0), rng.uniform(0.1, 1.0)
+        nodes += [Node((k, "tier"), tier_cost, tier_r, group=k),
+                  Node((k, "whole"), tier_cost + rng.uniform(0.5, 4.0), tier_r + rng.uniform(0.0, 0.5), group=k)]
+    level = {}
+    for budget in np.linspace(0.0, 30.0, 31):
+        now = {key[0]: 2 if key[1] == "whole" else 1 for key in (n.key for n in select("nested", nodes, budget))}
+        assert all(now.get(k, 0) >= v for k, v in level.items()), budget
+        level = now
+    with pytest.raises(ValueError, match="up to two"):
+        select("nested", nodes[:2] + [Node("third", 9.0, 1.0, group=0)], 5.0)
