@@ -89,7 +89,8 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
 SCAN_BLOCK = 1024
 
 
-def compact(mask: mi.Bool, *first: mi.Bool | None, two_level: bool | None = None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
+def compact(mask: mi.Bool, *first: mi.Bool | None, two_level: bool | None = None,
+            regions: int | None = None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
     the ``j``-th set lane, in order (an exclusive prefix sum gives each set lane its slot). The
     arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
@@ -109,7 +110,17 @@ def compact(mask: mi.Bool, *first: mi.Bool | None, two_level: bool | None = None
     two levels (docs/results/gpu/issue10/stop39/probe.log). On the LLVM backend the one scan is
     the faster (57,600 lanes: 0.048 against 0.061 ms of kernels on this project's CPU); ``two_level``
     (default: on CUDA) chooses.
-    Returns (index, lane active, slot of each set lane); the index of a lane past n is unspecified.
+
+    On the LLVM backend the set lanes are then dealt over ``regions`` equal parts of the width
+    (default: Dr.Jit's thread count; 1, none, on CUDA), in chunks of ``SPREAD_CHUNK`` lanes taken
+    in turn (:func:`spread_lanes`): Dr.Jit's LLVM backend splits a launch of up to
+    2 × 16384 × threads lanes into one block per thread, so set lanes packed at the front all fell
+    into the first thread's block. On this project's two cores, at 320×180, the glass Armadillo
+    traced alone took 28.2 ms against 23.2 for the Armadillo and its floor; dealt, 15.1 against
+    20.7 (docs/results/gpu/issue10/stop47). Chunks keep the SIMD packets full. The lane order changes
+    no result: each pixel's random numbers are its own.
+    Returns (index, lane active, slot of each set lane); a lane that holds no set lane is inactive
+    and its index unspecified.
     """
     parts, rest = [], mask
     for group in (g for g in first if g is not None):
@@ -145,9 +156,33 @@ def compact(mask: mi.Bool, *first: mi.Bool | None, two_level: bool | None = None
             shift, ones = bits * k, (1 << bits) - 1
             slot = dr.select(part, n + mi.UInt32((within >> shift) & ones), slot)
             n = n + mi.UInt32((total >> shift) & ones)
-    index = dr.empty(mi.UInt32, width)  # lanes past n: unspecified (read by none, not cleared)
+    if regions is None:
+        regions = dr.thread_count() if dr.backend_v(mask) == dr.JitBackend.LLVM else 1
+    slot, packed = spread_lanes(slot, lane, width, regions)
+    index = dr.empty(mi.UInt32, width)  # lanes that hold no set lane: unspecified (read by none, not cleared)
     dr.scatter(index, lane, slot, mask)
-    return index, lane < n, slot
+    return index, packed < n, slot
+
+
+#: lanes dealt together by :func:`spread_lanes`: a multiple of every SIMD width of Dr.Jit's LLVM backend
+SPREAD_CHUNK = 64
+
+
+def spread_lanes(packed: mi.UInt32, lane: mi.UInt32, width: int, regions: int) -> tuple[mi.UInt32, mi.UInt32]:
+    """A permutation of ``width`` lanes that deals packed lanes over ``regions`` equal parts: packed
+    chunk ``c`` (``SPREAD_CHUNK`` lanes) goes to part ``c % regions``, at chunk ``c // regions`` of
+    it, where the parts (each a whole number of chunks) cover the width; the lanes past them stay
+    where they are. Returns each packed lane's (``packed``) place, and each ``lane``'s packed lane
+    (the inverse)."""
+    part = width // (SPREAD_CHUNK * regions) * SPREAD_CHUNK
+    if regions <= 1 or part == 0:
+        return packed, lane
+    covered = regions * part
+    chunk, within = packed // SPREAD_CHUNK, packed % SPREAD_CHUNK
+    place = (chunk % regions) * part + (chunk // regions) * SPREAD_CHUNK + within
+    offset = lane % part
+    back = ((offset // SPREAD_CHUNK) * regions + lane // part) * SPREAD_CHUNK + offset % SPREAD_CHUNK
+    return dr.select(packed < covered, place, packed), dr.select(lane < covered, back, lane)
 
 
 #: lobes whose paths are the frame's longest: a refracted path crosses at least two interfaces of

@@ -69,11 +69,51 @@ def test_compaction_on_the_device(n, density, two_level):
     totals; 5000 lanes end in a part block) give the same slots."""
     rng = np.random.default_rng(n)
     mask = rng.random(n) < density
-    index, active, slot = compact(mi.Bool(mask), two_level=two_level)
+    index, active, slot = compact(mi.Bool(mask), two_level=two_level, regions=1)
     expected = np.nonzero(mask)[0]
     assert np.array_equal(np.array(active), np.arange(n) < len(expected))
     assert np.array_equal(np.array(index)[:len(expected)], expected)
     assert np.array_equal(np.array(slot)[expected], np.arange(len(expected)))  # each set lane's place
+
+
+@pytest.mark.parametrize("n, density, regions", [(100, 0.5, 2), (130, 0.3, 2), (57600, 0.17, 2), (57600, 1.0, 3),
+                                                (5000, 0.02, 4), (64, 1.0, 2)])
+def test_compaction_deals_the_set_lanes_over_regions(n, density, regions):
+    """On the LLVM backend the packed lanes are dealt over equal parts of the width, a chunk of 64 at
+    a time (a block per thread): still one lane per set lane, each set lane's index where its slot
+    says; every part holds its share of them (to a chunk); the lanes past the parts keep their place."""
+    from hybrid_integrator.selection import SPREAD_CHUNK
+
+    rng = np.random.default_rng(n)
+    mask = rng.random(n) < density
+    index, active, slot = (np.array(a) for a in compact(mi.Bool(mask), regions=regions))
+    expected = np.nonzero(mask)[0]
+    assert active.sum() == len(expected) and len(set(slot[expected].tolist())) == len(expected)
+    assert active[slot[expected]].all() and np.array_equal(index[slot[expected]], expected)
+    part = n // (SPREAD_CHUNK * regions) * SPREAD_CHUNK
+    if part:
+        busy = [int(active[r * part:(r + 1) * part].sum()) for r in range(regions)]
+        assert max(busy) - min(busy) <= SPREAD_CHUNK, busy
+        assert np.array_equal(np.nonzero(active[regions * part:])[0] + regions * part,
+                              np.arange(regions * part, n)[np.arange(regions * part, n) < len(expected)])
+
+
+def test_dealt_lanes_trace_the_same_image(monkeypatch):
+    """The lanes' order changes no pixel: each pixel's random numbers are its own (unfrozen frames,
+    every candidate traced, lanes dealt over two parts or packed)."""
+    import functools
+    from hybrid_integrator import trace
+    from hybrid_integrator.api import renderer
+    from hybrid_integrator.budget import FrameState
+    from hybrid_integrator.pipeline import HybridSettings
+
+    scene = load(DEFAULT_SCENE, resx=64, resy=48)
+    settings = HybridSettings(denoise=False, freeze=False)
+    dealt = renderer(scene).render(settings, seed=3, spp=1, state=FrameState(), layers=False)
+    monkeypatch.setattr(trace, "compact", functools.partial(trace.compact, regions=1))
+    packed = renderer(scene).render(settings, seed=3, spp=1, state=FrameState(), layers=False)
+    assert dealt.stats.pixels_traced == packed.stats.pixels_traced > 0
+    assert np.array_equal(np.array(dealt.image), np.array(packed.image))
 
 
 def test_frozen_pass_without_table_lights_equals_the_unfrozen_one():
@@ -213,7 +253,7 @@ def test_compaction_puts_the_first_lanes_first(n, density, groups, two_level):
     23 bits each, two to a 64-bit prefix sum, so three parts take two."""
     rng = np.random.default_rng(n + 1)
     mask, first = rng.random(n) < density, [rng.random(n) < 0.4 for _ in range(groups)]
-    index, active, slot = compact(mi.Bool(mask), *(mi.Bool(f) for f in first), None, two_level=two_level)
+    index, active, slot = compact(mi.Bool(mask), *(mi.Bool(f) for f in first), None, two_level=two_level, regions=1)
     taken, expected = np.zeros(n, dtype=bool), []
     for part in [*first, np.ones(n, dtype=bool)]:
         expected.append(np.nonzero(mask & part & ~taken)[0])
