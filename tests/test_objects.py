@@ -100,7 +100,8 @@ def test_compaction_deals_the_set_lanes_over_regions(n, density, regions):
 
 def test_dealt_lanes_trace_the_same_image(monkeypatch):
     """The lanes' order changes no pixel: each pixel's random numbers are its own (unfrozen frames,
-    every candidate traced, lanes dealt over two parts or packed)."""
+    every candidate traced, lanes dealt over two parts or packed). The same to the order of the
+    film's atomic sums, which two renders of one configuration differ by too (1.2e-7 here)."""
     import functools
     from hybrid_integrator import trace
     from hybrid_integrator.api import renderer
@@ -113,7 +114,7 @@ def test_dealt_lanes_trace_the_same_image(monkeypatch):
     monkeypatch.setattr(trace, "compact", functools.partial(trace.compact, regions=1))
     packed = renderer(scene).render(settings, seed=3, spp=1, state=FrameState(), layers=False)
     assert dealt.stats.pixels_traced == packed.stats.pixels_traced > 0
-    assert np.array_equal(np.array(dealt.image), np.array(packed.image))
+    assert np.allclose(np.array(dealt.image), np.array(packed.image), rtol=1e-5, atol=1e-6)
 
 
 def test_frozen_pass_without_table_lights_equals_the_unfrozen_one():
