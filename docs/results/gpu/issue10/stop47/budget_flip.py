@@ -1,7 +1,7 @@
 """What budgets buy (issue 10, stop 47): per scene, the hybrid's default frame and frames at 0 / 25 /
 50 / 75 % of its all-candidates trace time, as the bench renders them (``render_sequence``, the
 budgeted runs from a fresh state: 5 frames of warm-up, then FRAMES), each frame's total time and
-trace time, and FLIP against ``path`` at GT_SPP (the bench's cached ground truth), the mean of the
+trace time (and every stage's and host phase's median), and FLIP against ``path`` at GT_SPP (the bench's cached ground truth), the mean of the
 last 5 frames' FLIP. One JSON line per scene is appended to OUT; run once per tree (this one, or an
 old one on PYTHONPATH) to compare selections.
 
@@ -44,7 +44,9 @@ def main() -> None:
             frames = hi.render_sequence(scene, [camera] * (warmup + args.frames), spp=1, seed=0, layers=False, **props)[warmup:]
             stats = [f.stats for f in frames]
             flips = [flip_map(np.array(f.image)[..., :3], reference)[1] for f in frames[-5:]]
-            return {"total_ms": statistics.median(s.times_ms["total"] for s in stats),
+            return {"stages_ms": {k: statistics.median(s.times_ms[k] for s in stats) for k in stats[0].times_ms},
+                    "host_ms": {k: statistics.median(s.host_ms[k] for s in stats) for k in stats[0].host_ms},
+                    "total_ms": statistics.median(s.times_ms["total"] for s in stats),
                     "trace_ms": statistics.median(s.times_ms["trace"] for s in stats),
                     "predicted_ms": statistics.median(s.predicted_trace_ms for s in stats),
                     "pixels": statistics.median(s.pixels_traced for s in stats),
@@ -54,7 +56,8 @@ def main() -> None:
         trace_all = row["hybrid"]["trace_ms"]
         for fraction in (float(x) for x in args.fractions.split(",")):
             row[f"{fraction:.0%}"] = {"budget_ms": max(fraction * trace_all, 1e-6), **run(5, budget_ms=max(fraction * trace_all, 1e-6))}
-        print(json.dumps({k: ({kk: (round(vv, 4) if isinstance(vv, float) else vv) for kk, vv in v.items() if kk != "flip_frames"}
+        print(json.dumps({k: ({kk: (round(vv, 4) if isinstance(vv, float) else vv) for kk, vv in v.items()
+                               if kk not in ("flip_frames", "stages_ms", "host_ms")}
                               if isinstance(v, dict) else v) for k, v in row.items()}), flush=True)
         with open(args.out, "a") as fh:
             fh.write(json.dumps(row) + "\n")

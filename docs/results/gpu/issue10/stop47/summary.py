@@ -23,6 +23,14 @@ def main() -> None:
             budget = "all candidates" if key == "hybrid" else f"{key} ({side['new'][key]['budget_ms']:.2f} ms)"
             print(f"| {scene} | {budget} | {cells[0]} | {cells[1]} |")
     print()
+    print("| dining room, run | budget | frame ms | trace ms | denoise ms | host issue ms | FLIP |")
+    print("|---|---|---|---|---|---|---|")
+    for n, row in enumerate(json.loads(line) for line in (OUT / "dining_stages.jsonl").read_text().splitlines()):
+        for key in ("hybrid", "25%", "50%"):
+            m = row[key]
+            print(f"| {n + 1}: {row['label']} | {'all candidates' if key == 'hybrid' else key} | {m['total_ms']:.2f} | "
+                  f"{m['trace_ms']:.2f} | {m['stages_ms']['denoise']:.2f} | {m['stages_ms']['issue']:.2f} | {m['flip']:.3f} |")
+    print()
     for line in (OUT / "budget.md").read_text().splitlines():
         if line.startswith("| nested") or line.startswith("| run") or line.startswith("|---"):
             print(line)
