@@ -22,6 +22,7 @@ def main() -> None:
     parser.add_argument("--gt-spp", type=int, default=1024)
     parser.add_argument("--fractions", default="0,0.25,0.5,0.75")
     parser.add_argument("--label", default="")
+    parser.add_argument("--no-denoise", action="store_true", help="frames without the denoiser")
     parser.add_argument("-D", dest="defines", action="append", default=[])
     parser.add_argument("-o", dest="out", required=True)
     args = parser.parse_args()
@@ -41,6 +42,7 @@ def main() -> None:
         camera = sensor_to_world(scene.sensors()[0])
 
         def run(warmup: int, **props) -> dict:
+            props = {"denoise": False, **props} if args.no_denoise else props
             frames = hi.render_sequence(scene, [camera] * (warmup + args.frames), spp=1, seed=0, layers=False, **props)[warmup:]
             stats = [f.stats for f in frames]
             flips = [flip_map(np.array(f.image)[..., :3], reference)[1] for f in frames[-5:]]
