@@ -186,11 +186,11 @@ def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: fl
     the rows picked. ``base`` (per row, -1: none) marks rows that upgrade another option of the
     same object (:func:`upgrades`); of an object's options the costliest picked is returned.
     Thousands of nodes take well under a millisecond."""
-    whole_cost, whole_relevance = np.asarray(cost, dtype=np.float64), np.asarray(relevance, dtype=np.float64)
-    requires = np.full(len(whole_cost), -1, dtype=np.int64)
-    cost, relevance = whole_cost, whole_relevance
+    row_cost, row_relevance = np.asarray(cost, dtype=np.float64), np.asarray(relevance, dtype=np.float64)
+    requires = np.full(len(row_cost), -1, dtype=np.int64)
+    cost, relevance = row_cost, row_relevance
     if base is not None and (np.asarray(base) >= 0).any():
-        cost, relevance, requires = upgrades(whole_cost, whole_relevance, np.asarray(base))
+        cost, relevance, requires = upgrades(row_cost, row_relevance, np.asarray(base))
     rows = np.nonzero(requires != -2)[0]
     # a base before its upgrades: upgrades() keeps only those adding less per millisecond than it
     order = rows[np.argsort(-relevance[rows] / np.maximum(cost[rows], 1e-12), kind="stable")]
@@ -204,11 +204,11 @@ def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: fl
                 taken[row] = True
                 time_left -= c
         chosen = np.nonzero(taken)[0]
-        # the single option (at its whole cost) that fits and alone is worth more
-        fits = np.nonzero(whole_cost <= budget)[0]
+        # the single row (an option at its own cost) that fits and alone is worth more
+        fits = np.nonzero(row_cost <= budget)[0]
         if len(fits):
-            best = int(fits[np.argmax(whole_relevance[fits])])
-            if whole_relevance[best] > relevance[chosen].sum():
+            best = int(fits[np.argmax(row_relevance[fits])])
+            if row_relevance[best] > relevance[chosen].sum():
                 return np.array([best])
     replaced = requires[chosen]
     return chosen[~np.isin(chosen, replaced[replaced >= 0])].astype(np.int64)

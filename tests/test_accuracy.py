@@ -78,6 +78,7 @@ def test_path_denoised_baseline_guides_are_its_paths_first_hits(spp):
     # (replayed from a recording, the same to the order of the film's atomic sums)
     assert len(times) == 1 and np.allclose(image, np.array(expected, dtype=np.float32)[..., :3], atol=1e-4)
 
+
 def test_still_camera_history_is_the_mean_of_its_frames():
     """With a still camera every pixel reprojects onto itself: the history is the plain mean of the
     composed frames, and it converges (each frame another sub-pixel offset and seed)."""
