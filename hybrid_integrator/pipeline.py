@@ -49,6 +49,7 @@ from .budget import FramePlan, FrameState, plan_frame
 from .compose import compose
 from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
+from . import history
 from .frozen import FrozenFunction, FrozenScene
 from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, candidate_kinds, candidates,
                         coverage_sums, default_kinds, pixel_growth, visibility_terms)
@@ -172,7 +173,9 @@ class FrameStats:
     draw, which is NaN where the GL driver timed nothing: Mesa's llvmpipe, the first draw of a
     process; the copy of its target into Dr.Jit's array is in no stage), ``issue`` the host's time to issue the frame, ``total`` its
     wall-clock time until its image and statistics are on hand (after its one synchronization),
-    less ``host_ms["timing"]``, the profiling that produces the stage times."""
+    the readout of its stage times (``host_ms["timing"]``) included: a budget needs the trace's
+    time, and a caller's frame loop waits for it (until stop 48 it was left out: 0.5-1.1 ms per
+    frame on the H200, read through ``drjit.kernel_history``; ``history.py``)."""
 
     width: int
     height: int
@@ -206,7 +209,7 @@ class FrameStats:
     #: then launches), film development, post-processing, the statistics and what the next frame
     #: learns from them (``readback``: on the GPU while it develops and denoises the frame), the
     #: next frame's raster pass issued behind this frame's work (``ahead``), and ``timing``:
-    #: reading Dr.Jit's kernel history for the stage times (profiling, not counted in ``total``)
+    #: reading Dr.Jit's kernel history for the stage times (``history.py``; counted in ``total``)
     host_ms: dict[str, float] = field(default_factory=lambda: dict.fromkeys(HOST_PHASES, 0.0))
     candidates_visible: int = 0
     selected: tuple[str, ...] = ()  # objects traced this frame, most relevant first
@@ -282,6 +285,9 @@ class StageClock:
     def __init__(self):
         self.stage_of: dict[str, str] = {}
         self._taken: list[tuple[str, dict]] = []
+        #: the history's reader: its entries without the kernels' source (``history.py``); set it
+        #: to ``drjit.kernel_history`` to keep each JIT kernel's source (``ir``) in :attr:`last`
+        self.read = history.reader()
         #: the last frame's kernels, each with its stage (``scripts/frame_profile.py --kernels``)
         self.last: list[tuple[str, dict]] = []
 
@@ -289,7 +295,7 @@ class StageClock:
         """Evaluate ``values``; the kernels launched for them that no stage has claimed yet are
         ``stage``'s (kernels of earlier stages flushed with them keep their own)."""
         dr.eval(*values)
-        for entry in dr.kernel_history():
+        for entry in self.read():
             new = entry.get("hash") and entry["hash"] not in self.stage_of
             if new:
                 self.stage_of[entry["hash"]] = stage
@@ -304,7 +310,7 @@ class StageClock:
         times = dict.fromkeys(STAGES[1:], 0.0)
         current = STAGES[1]
         self.last = []
-        for stage, entry in self._taken + [(None, e) for e in dr.kernel_history()]:
+        for stage, entry in self._taken + [(None, e) for e in self.read()]:
             stage = stage or self.stage_of.get(entry.get("hash"), current)
             current = stage
             times[stage] = times.get(stage, 0.0) + float(entry.get("execution_time", 0.0))
@@ -791,7 +797,7 @@ class HybridRenderer:
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
             self._account_times(settings, frame, state, learnt, clock)
-            frame.stats.times_ms["total"] = clock.elapsed() - clock.phases["timing"]
+            frame.stats.times_ms["total"] = clock.elapsed()
         else:  # its times and its lesson once the GPU is done with it
             self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
             frame.stats.in_flight = True

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import drjit as dr
 import mitsuba as mi
 import numpy as np
 import pytest
@@ -82,7 +83,6 @@ def test_edge_margin_is_the_distance_to_the_edge_in_pixels():
     vertical axis, the triangle's edge 0.02 from the sample within its plane (0.01 across the
     film's axis, at depth 2 - 0.017) is 0.252 pixel away: the film's distance, foreshortened (to
     4 %: the margin's gradient is a difference over one pixel, where perspective bends it)."""
-    import drjit as dr
 
     from hybrid_integrator.primary import camera_rays, edge_margin
 
@@ -124,6 +124,7 @@ def test_refined_pixels_traced_in_the_trace_launch_give_the_same_frame(case):
     options = dict(options)
     aovs, frames = options.pop("aovs", ()), options.pop("frames", 1)
     results, tracing = {}, {}
+    hi.api.renderer(scene).clock.read = dr.kernel_history  # the kernels' source, for their ray-tracing calls
     for refine in ("primary", "trace"):
         integrator = hi.api._integrator(dict(options, refine=refine))
         for k in range(frames):
@@ -149,6 +150,7 @@ def test_refine_auto_traces_the_refined_pixels_in_the_primary_stage_on_the_cpu()
     assert resolve_refine("auto", variant="cuda_ad_rgb") == "trace"
     assert resolve_refine("auto", traces=False, variant="cuda_ad_rgb") == "primary"
     scene = load(DEFAULT_SCENE, **SMALL)
+    hi.api.renderer(scene).clock.read = dr.kernel_history  # the kernels' source, for their ray-tracing calls
     hi.render(scene, spp=1, seed=1)
     tracing = [stage for stage, entry in hi.api.renderer(scene).clock.last if "Ray trace" in _ir(entry)]
     assert "raster" in tracing and "trace" in tracing

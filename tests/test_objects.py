@@ -140,7 +140,51 @@ def test_frame_statistics_come_from_one_synchronization():
     assert all(t[k] >= 0 for k in t) and t["trace"] > 0 and t["lighting"] > 0
     assert t["total"] >= t["issue"] > 0
     assert set(frame.stats.host_ms) == {"setup", "select", "raster", "replay", "develop", "post", "readback", "ahead", "timing"}
-    assert frame.stats.host_ms["replay"] > 0
+    assert frame.stats.host_ms["replay"] > 0 and frame.stats.host_ms["timing"] > 0
+    # the wall clock until the statistics are on hand: every host phase, the stage times' readout too
+    assert t["total"] >= sum(frame.stats.host_ms.values()) - 1e-6
+
+
+def test_the_history_reader_gives_drjits_entries_without_their_source():
+    """``history.reader`` reads Dr.Jit's kernel history through its C API: the same launches as
+    ``drjit.kernel_history`` (type, width, hash, operations), without the kernels' source."""
+    import drjit as dr
+
+    from hybrid_integrator import history
+
+    read = history.reader()
+    assert history.READER == "C API"  # this machine's Dr.Jit: the layout check passed
+
+    def launches(n: int):
+        x = dr.arange(mi.Float, n)
+        y = dr.sin(x) * 2 + dr.sqrt(x)
+        dr.eval(y, dr.sum(y))
+
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        got = []
+        for reader in (dr.kernel_history, read):
+            dr.kernel_history_clear()
+            launches(1000)
+            launches(37)
+            got.append(reader())
+    theirs, ours = got
+    keys = ("type", "size", "hash", "operation_count")
+    assert len(ours) == len(theirs) >= 2
+    assert [tuple(e.get(k) for k in keys) for e in ours] == [tuple(e.get(k) for k in keys) for e in theirs]
+    assert all("ir" not in e and e["execution_time"] >= 0 for e in ours) and all("ir" in e for e in theirs if "hash" in e)
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        assert read() == []  # read, then cleared
+
+
+def test_the_history_reader_falls_back_to_drjits_where_the_c_api_is_missing(monkeypatch):
+    import drjit as dr
+
+    from hybrid_integrator import history
+
+    monkeypatch.setattr(history, "_READER", None)
+    monkeypatch.setattr(history, "READER", history.READER)
+    monkeypatch.setattr(history, "_load", lambda: None)  # the symbol not found
+    assert history.reader() is dr.kernel_history and history.READER == "drjit.kernel_history"
 
 
 def test_a_process_first_frame_says_its_draw_was_not_timed():

@@ -1,0 +1,119 @@
+"""Dr.Jit's kernel history, read without its copies of the kernels' source (issue 10).
+
+A frame's device time per stage comes from Dr.Jit's kernel history (``JitFlag.KernelHistory``:
+``pipeline.StageClock``), read once after the frame's synchronization. Dr.Jit 1.5's
+``drjit.kernel_history()`` gives every JIT kernel's entry its intermediate representation as an
+``io.StringIO``, decoded from the C string that Dr.Jit keeps of the kernel's source: about 1.1 ms
+of host time per MB of source on this project's CPU (``docs/results/gpu/issue10/stop48``). The
+frame's megakernel is the bulk of it, so every frame paid in proportion to the scene's code (on
+the H200, 0.39 ms of host time per frame on the showcase, 0.78 on Sponza, 1.05 on the dining room,
+whose megakernel has 11,738 operations), for text no stage time reads.
+
+:func:`reader` reads the same entries through Dr.Jit's C API, ``jit_kernel_history``
+(whose entry layout, ``KernelHistoryEntry``, is in the ``drjit-core/jit.h`` that Dr.Jit's wheel
+ships), takes the fields the stage times and the profiles read, and frees the source strings
+unread, as ``drjit.kernel_history`` does after copying them (0.19-0.36 ms per frame on the H200).
+It checks the layout once, on a kernel of its own (so it must not be called while a frame's history is being kept); where the
+symbol is missing or the check fails, it gives ``drjit.kernel_history`` instead (the same entries,
+with ``ir``), and :data:`READER` says which one it gave.
+"""
+from __future__ import annotations
+
+import ctypes
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+import drjit as dr
+
+
+class _Entry(ctypes.Structure):
+    """``KernelHistoryEntry`` of Dr.Jit 1.5's ``drjit-core/jit.h`` (natural C alignment)."""
+
+    _fields_ = [("backend", ctypes.c_uint32), ("type", ctypes.c_uint32), ("recording_mode", ctypes.c_uint32),
+                ("hash", ctypes.c_uint64 * 2), ("ir", ctypes.c_void_p), ("uses_optix", ctypes.c_int),
+                ("cache_hit", ctypes.c_int), ("cache_disk", ctypes.c_int), ("size", ctypes.c_uint32),
+                ("input_count", ctypes.c_uint32), ("output_count", ctypes.c_uint32),
+                ("operation_count", ctypes.c_uint32), ("codegen_time", ctypes.c_float),
+                ("backend_time", ctypes.c_float), ("execution_time", ctypes.c_float),
+                ("event_start", ctypes.c_void_p), ("event_end", ctypes.c_void_p), ("task", ctypes.c_void_p)]
+
+
+#: the reader :func:`reader` gives, once checked
+_READER: Callable[[], list[dict]] | None = None
+#: "C API" or "drjit.kernel_history" (a fallback: the symbol is missing or its layout check failed)
+READER = "drjit.kernel_history"
+
+
+def _load() -> tuple | None:
+    try:
+        core = ctypes.CDLL(str(Path(dr.__file__).parent / "libdrjit-core.so"))
+        history = core["_Z18jit_kernel_historyv"]
+        libc = ctypes.CDLL(None)
+    except (OSError, AttributeError):
+        return None
+    history.restype, history.argtypes = ctypes.POINTER(_Entry), []
+    libc.free.restype, libc.free.argtypes = None, [ctypes.c_void_p]
+    return history, libc.free
+
+
+def _read(api: tuple) -> list[dict]:
+    history, free = api
+    data = history()
+    out = []
+    if not data:
+        return out
+    address = ctypes.cast(data, ctypes.c_void_p).value
+    for k in range(1 << 30):
+        entry = _Entry.from_address(address + k * ctypes.sizeof(_Entry))
+        if entry.backend == 0:
+            break
+        item = {"backend": entry.backend, "type": dr.KernelType(entry.type), "size": entry.size,
+                "execution_time": entry.execution_time}
+        if item["type"] == dr.KernelType.JIT:
+            item.update(hash=f"{entry.hash[1]:016x}{entry.hash[0]:016x}", operation_count=entry.operation_count,
+                        uses_optix=entry.uses_optix)
+        out.append(item)
+        free(entry.ir)
+    free(data)
+    return out
+
+
+def _check(api: tuple) -> bool:
+    """The layout read right: one kernel of a known width, on the active variant's backend, read
+    back before anything is freed (a failed check leaves its entry unfreed rather than free what it
+    may have misread)."""
+    import mitsuba as mi
+
+    history, free = api
+    width = 7919
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        dr.kernel_history_clear()
+        dr.eval(dr.arange(mi.UInt32, width) * 3 + 1)
+        data = history()
+    if not data:
+        return False
+    address = ctypes.cast(data, ctypes.c_void_p).value
+    entry, after = (_Entry.from_address(address + k * ctypes.sizeof(_Entry)) for k in (0, 1))
+    ok = (entry.backend in (1, 2) and entry.type == dr.KernelType.JIT.value and entry.size == width
+          and 0 < entry.operation_count < 100 and bool(entry.ir) and math.isfinite(entry.execution_time)
+          and entry.execution_time >= 0.0 and after.backend == 0)
+    if ok:
+        free(entry.ir)
+        free(data)
+    return ok
+
+
+def reader() -> Callable[[], list[dict]]:
+    """A function that returns the kernel history since it was last read or cleared, and clears
+    it (as ``drjit.kernel_history()``): per launch ``backend``, ``type``, ``size`` and
+    ``execution_time`` (ms), and for JIT kernels ``hash``, ``operation_count`` and ``uses_optix``,
+    without ``ir``. The first call checks the layout (it launches a kernel and clears the history)."""
+    global _READER, READER
+    if _READER is None:
+        api = _load()
+        if api is not None and _check(api):
+            _READER, READER = (lambda: _read(api)), "C API"
+        else:
+            _READER, READER = dr.kernel_history, "drjit.kernel_history"
+    return _READER
