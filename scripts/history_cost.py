@@ -4,12 +4,13 @@ Every frame of ``HybridRenderer.render`` runs with ``JitFlag.KernelHistory`` on:
 (``FrameStats.times_ms``) and the budget's cost model, which learns the trace stage's device time,
 come from it. On the CUDA backend the history records a pair of CUDA events around every kernel
 and reduction of the frozen replay, and after the frame ``StageClock.frame_times`` reads it back
-(``host_ms["timing"]``, left out of ``times_ms["total"]``). This probe renders the same frames
+(``host_ms["timing"]``, through Dr.Jit's C API since stop 48: ``history.py``; part of
+``times_ms["total"]`` since then). This probe renders the same frames
 with the history on and, by wrapping ``drjit.scoped_set_flag`` so that the renderer's request for
 it is ignored, off (the probe's one intervention; its frames then have no stage times), in turn,
 and prints per kind of frame (1 spp) the median wall time of a frame (``render`` and one
 synchronisation, the history's read-back included where it is on) and, with the history on, the
-median ``times_ms["total"]`` (what the bench reports: the read-back left out). Frames without a
+median ``times_ms["total"]`` (what the bench reports; until stop 48 the read-back was left out). Frames without a
 budget only (a budget's cost model needs the history).
 
     python3 scripts/history_cost.py --variant cuda_ad_rgb scenes/armadillo_glass.xml -D resx=1280 -D resy=720 -D models_dir=…
