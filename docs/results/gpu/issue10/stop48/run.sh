@@ -69,3 +69,7 @@ case $mode in
       python3 docs/results/gpu/issue10/stop48/readout.py scenes/$scene.xml --variant cuda_ad_rgb $D 2>/dev/null
     done ;;
 esac
+case $mode in
+  history)  # what the kernel history still costs a frame (scripts/history_cost.py: on / off in turn), no denoiser
+    python3 scripts/history_cost.py --variant cuda_ad_rgb --no-denoise $(for s in "$@"; do echo scenes/$s.xml; done) $D 2>/dev/null ;;
+esac
