@@ -13,9 +13,9 @@ whose megakernel has 11,738 operations), for text no stage time reads.
 (whose entry layout, ``KernelHistoryEntry``, is in the ``drjit-core/jit.h`` that Dr.Jit's wheel
 ships), takes the fields the stage times and the profiles read, and frees the source strings
 unread, as ``drjit.kernel_history`` does after copying them (0.19-0.36 ms per frame on the H200).
-It checks the layout once, on a kernel of its own (so it must not be called while a frame's history is being kept); where the
-symbol is missing or the check fails, it gives ``drjit.kernel_history`` instead (the same entries,
-with ``ir``), and :data:`READER` says which one it gave.
+It checks the layout once, on a kernel of its own (so it must not be called while a frame's
+history is being kept); where the symbol is missing or the check fails, it gives
+``drjit.kernel_history`` instead (the same entries, with ``ir``), and :data:`READER` says which.
 """
 from __future__ import annotations
 

@@ -174,7 +174,7 @@ class FrameStats:
     process; the copy of its target into Dr.Jit's array is in no stage), ``issue`` the host's time to issue the frame, ``total`` its
     wall-clock time until its image and statistics are on hand (after its one synchronization),
     the readout of its stage times (``host_ms["timing"]``) included: a budget needs the trace's
-    time, and a caller's frame loop waits for it (until stop 48 it was left out: 0.5-1.1 ms per
+    time, and a caller's frame loop waits for it (until stop 48 it was left out: 0.4-1.0 ms per
     frame on the H200, read through ``drjit.kernel_history``; ``history.py``)."""
 
     width: int
