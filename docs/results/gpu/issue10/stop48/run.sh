@@ -5,6 +5,12 @@
 # `git archive 42baa48 hybrid_integrator plugins`) where a mode runs the old tree.
 #   bash docs/results/gpu/issue10/stop48/run.sh profile "old new old new" SCENE   # kernels per tree, in turn
 #   bash docs/results/gpu/issue10/stop48/run.sh path SCENE...                     # the hybrid's kernels and path's
+#   bash docs/results/gpu/issue10/stop48/run.sh cache SCENE warm|cold...          # one tree in turn, caches kept or emptied
+#   bash docs/results/gpu/issue10/stop48/run.sh spills SCENE...                   # OptiX's registers and spills (spills.py)
+#   [STOP48_LOOP=…] [HYBRID_SIDES="--hybrid k=v …"] bash …/run.sh context SCENE... # path's kernel against the hybrid's trace (context.py)
+#   bash docs/results/gpu/issue10/stop48/run.sh ncu SCENE...                      # Nsight Compute (crashed: exit code 11)
+#   bash docs/results/gpu/issue10/stop48/run.sh readout SCENE...                  # the stage times' readout, both readers (readout.py)
+#   bash docs/results/gpu/issue10/stop48/run.sh history SCENE...                  # the kernel history on/off (scripts/history_cost.py)
 set -uo pipefail
 python3 -m zipfile -e .device_x4/flip_evaluator-*.whl /tmp/extra
 source .device/prelude.sh
