@@ -20,6 +20,7 @@ history is being kept); where the symbol is missing or the check fails, it gives
 from __future__ import annotations
 
 import ctypes
+import itertools
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -39,6 +40,8 @@ class _Entry(ctypes.Structure):
                 ("event_start", ctypes.c_void_p), ("event_end", ctypes.c_void_p), ("task", ctypes.c_void_p)]
 
 
+_SIZE = ctypes.sizeof(_Entry)
+
 #: the reader :func:`reader` gives, once checked
 _READER: Callable[[], list[dict]] | None = None
 #: "C API" or "drjit.kernel_history" (a fallback: the symbol is missing or its layout check failed)
@@ -57,15 +60,19 @@ def _load() -> tuple | None:
     return history, libc.free
 
 
+def _entry(data, k: int) -> _Entry:
+    """Entry ``k`` of the array ``jit_kernel_history`` returned (ended by an entry of backend 0)."""
+    return _Entry.from_address(ctypes.cast(data, ctypes.c_void_p).value + k * _SIZE)
+
+
 def _read(api: tuple) -> list[dict]:
     history, free = api
     data = history()
     out = []
     if not data:
         return out
-    address = ctypes.cast(data, ctypes.c_void_p).value
-    for k in range(1 << 30):
-        entry = _Entry.from_address(address + k * ctypes.sizeof(_Entry))
+    for k in itertools.count():
+        entry = _entry(data, k)
         if entry.backend == 0:
             break
         item = {"backend": entry.backend, "type": dr.KernelType(entry.type), "size": entry.size,
@@ -93,8 +100,7 @@ def _check(api: tuple) -> bool:
         data = history()
     if not data:
         return False
-    address = ctypes.cast(data, ctypes.c_void_p).value
-    entry, after = (_Entry.from_address(address + k * ctypes.sizeof(_Entry)) for k in (0, 1))
+    entry, after = _entry(data, 0), _entry(data, 1)
     ok = (entry.backend in (1, 2) and entry.type == dr.KernelType.JIT.value and entry.size == width
           and 0 < entry.operation_count < 100 and bool(entry.ir) and math.isfinite(entry.execution_time)
           and entry.execution_time >= 0.0 and after.backend == 0)

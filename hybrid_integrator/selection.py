@@ -92,8 +92,8 @@ SCAN_BLOCK = 1024
 def compact(mask: mi.Bool, *first: mi.Bool | None, two_level: bool | None = None,
             regions: int | None = None) -> tuple[mi.UInt32, mi.Bool, mi.UInt32]:
     """Stream compaction without a host round trip: lane ``j`` < n (n = set lanes) gets the index of
-    the ``j``-th set lane, in order (packed; on the LLVM backend then dealt over the threads, below) (an exclusive prefix sum gives each set lane its slot). The
-    arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
+    the ``j``-th set lane, in order: an exclusive prefix sum gives each set lane its slot (packed;
+    on the LLVM backend then dealt over the threads, below). The arrays keep the full width, so the kernels that follow have a fixed size (they are recorded
     once, ``dr.freeze``) and the lanes past ``n`` do nothing; ``dr.compress`` would instead read
     ``n`` back to the host to size its result. With ``first`` masks (None: left out), the set lanes
     of the first mask come first, then those of the second that are not in the first, ..., then
@@ -172,8 +172,8 @@ def spread_lanes(packed: mi.UInt32, lane: mi.UInt32, width: int, regions: int) -
     """A permutation of ``width`` lanes that deals packed lanes over ``regions`` equal parts: packed
     chunk ``c`` (``SPREAD_CHUNK`` lanes) goes to part ``c % regions``, at chunk ``c // regions`` of
     it; the parts (each a whole number of chunks) cover as much of the width as they can, and the
-    lanes past them stay where they are. Returns each packed lane's (``packed``) place, and each ``lane``'s packed lane
-    (the inverse)."""
+    lanes past them stay where they are. Returns each packed lane's (``packed``) place, and each
+    ``lane``'s packed lane (the inverse)."""
     part = width // (SPREAD_CHUNK * regions) * SPREAD_CHUNK
     if regions <= 1 or part == 0:
         return packed, lane
