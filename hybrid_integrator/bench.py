@@ -19,19 +19,24 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 - ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
   a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
   frames (``budget.py``), which are warm-up, not measured;
-- ``path@Nspp``: Mitsuba's ``path`` at 1, 2, 4 … spp (the time/error curve), and
-  ``path@equal-time``: the spp whose time, on the line through that curve's ends (a fixed cost
-  plus a cost per sample), equals the hybrid's frame time, rendered and measured (the paper sets the
-  hybrid against the Brigade path tracer, Table 4; at least 1 spp, so it can take longer);
-  ``path`` is timed over ``frames`` frames too, as far as they fit in a second
-  (``compare.TIME_LIMIT_S``; at least 3: the many-sample points of the curve); ``mi.render``
-  traces the path kernel on the host at every call, as Mitsuba users call it;
-- ``path, frozen@1spp``: the same 1-spp frame replayed from a recording (``dr.freeze``, with the
-  scene's variables as the hybrid's device pass takes them: ``compare.timed_path``), the fastest
-  way Mitsuba's ``path`` runs a real-time frame here: the same image;
+- ``path@Nspp``: Mitsuba's ``path`` at 1, 2, 4 … spp (the time/error curve), each point replayed
+  from a recording (``dr.freeze``, with the scene's variables as the hybrid's device pass takes
+  them: ``compare.timed_path``), as the hybrid's frame is: the fastest way Mitsuba's ``path`` runs
+  a real-time frame here, the same images as ``mi.render``'s; and ``path@equal-time``: the spp
+  whose time, on the line through that curve's ends (a fixed cost plus a cost per sample), equals
+  the hybrid's frame time, rendered and measured (the paper sets the hybrid against the Brigade
+  path tracer, Table 4; at least 1 spp, so it can take longer); ``path`` is timed over ``frames``
+  frames too, as far as they fit in a second (``compare.TIME_LIMIT_S``; at least 3: the
+  many-sample points of the curve). Until issue 10's stop 49 the curve was timed through
+  ``mi.render``, which traces the path kernel on the host at every call: 1.7–22 ms more per frame
+  on the H200 (stop 46), time the hybrid's frozen frame does not spend;
+- ``path@1spp, mi.render``: the 1-spp frame as Mitsuba users call it (``mi.render``), Table 3's
+  ``path`` column beside the frozen one;
 - with accuracy, also the rest of the time–error plane: the hybrid without the denoiser, with
-  OIDN 'high', at 2 and 4 spp, with history; and ``path+denoiser@Nspp``: ``path`` and its guides
+  OIDN 'high', at 2 and 4 spp, with history; ``path+denoiser@Nspp``: ``path`` and its guides
   replayed from one recording, then the same denoiser at 'high' (``compare.timed_path_denoised``);
+  and ``path+denoiser 'fast'@1spp``: the same at the hybrid's default quality, 'fast', against the
+  hybrid's default frame;
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
@@ -264,7 +269,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                      hybrid(f"hybrid+history, {HISTORY_PATHS} paths/hit", "hybrid", 3, temporal=True,
                             secondary_spp=HISTORY_PATHS)]
 
-    def path(method: str, path_spp: int, frozen: bool = False) -> Measurement:
+    def path(method: str, path_spp: int, frozen: bool = True) -> Measurement:
         image, times = timed_path(scene, path_spp, max_depth, seed, repeats=frames, frozen=frozen)
         images.append([image] + [render_path(scene, path_spp, max_depth, seed + k)
                                  for k in range(1, error_frames(path_spp, raw=True))])
@@ -274,7 +279,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     equal_time = None
     # the whole curve where errors are measured; its first point (the 1-spp time) always
     curve = [path(f"path@{s}spp", s) for s in (2 ** k for k in range(max_path_spp.bit_length() if accuracy else 1))]
-    frozen_path = path("path, frozen@1spp", 1, frozen=True)
+    called = path("path@1spp, mi.render", 1, frozen=False)
     if accuracy:
         # equal time: the spp whose time fits the hybrid's frame, by a line through the curve's ends
         first, last = curve[0], curve[-1]
@@ -286,11 +291,12 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         for history in histories:
             total = history.time_ms * history.frames_accumulated
             path(history_rival(history.method), int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
-        for s in (1, 2, 4):  # path + the same denoiser
-            image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames)
+        # path + the same denoiser: 'high' at 1, 2, 4 spp; 'fast', the hybrid's default, at 1 spp
+        for s, quality, label in ((1, "high", "path+denoiser@1spp"), (2, "high", "path+denoiser@2spp"),
+                                  (4, "high", "path+denoiser@4spp"), (1, "fast", "path+denoiser 'fast'@1spp")):
+            image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames, quality=quality)
             images.append([image])
-            rows.append(Measurement(f"path+denoiser@{s}spp", "path+denoiser", statistics.median(times), times,
-                                    nan, nan, nan, s))
+            rows.append(Measurement(label, "path+denoiser", statistics.median(times), times, nan, nan, nan, s))
         # the errors after every timing: their workers take every core
         tests = [np.array(image, dtype=np.float32)[..., :3] for row in images for image in row]
         errors = iter(errors_in_parallel(tests, [reference] * len(tests)))
@@ -314,7 +320,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         "ground_truth": {"integrator": "path", "spp": gt_spp, "max_depth": max_depth,
                          "file": None if gt_file is None else str(gt_file), "cached": cached},
         "dr_ms": raster.time_ms, "gl_ms": raster.stages_ms.get("gl", 0.0), "rt_ms": rt.time_ms,
-        "path_1spp_ms": curve[0].time_ms, "path_1spp_frozen_ms": frozen_path.time_ms,
+        "path_1spp_ms": called.time_ms, "path_1spp_frozen_ms": curve[0].time_ms,
         "hybrid_ms": everything.time_ms, "gain": rt.time_ms / everything.time_ms, "gain_paired": paired, "gain_in_flight": in_flight, "all_candidates_trace_ms": trace_all,
         "equal_time": equal_time, "methods": [asdict(r) for r in rows], "command": None,  # set by run()
     }
@@ -482,7 +488,7 @@ def chart(report: dict, path: Path) -> None:
     curves = {"hybrid, budget 0…100 %": (budgets, lambda m: m["method"].split("@")[1] if "@" in m["method"] else "100%"),
               "hybrid, spp per frame": ([by_name[k] for k in by_name if k == "hybrid" or k.endswith(" spp") and k.startswith("hybrid ")],
                                         lambda m: f"{m['spp']}"),
-              "Mitsuba path, 1…N spp": ([m for m in methods if m["method"].startswith("path@") and m["method"][5].isdigit()],
+              "Mitsuba path, 1…N spp (frozen)": ([m for m in methods if re.fullmatch(r"path@\d+spp", m["method"])],
                                         lambda m: m["method"].split("@")[1]),
               "hybrid + OIDN 'high' (as path + denoiser)": (
                   [m for m in methods if m["method"].endswith("denoiser 'high'") and m["method"].startswith("hybrid")],
@@ -497,11 +503,11 @@ def chart(report: dict, path: Path) -> None:
         for m in ms:
             ax.annotate(tag(m), (m["time_ms"], m["flip"]), fontsize=7, xytext=(3, 3), textcoords="offset points")
     for name, marker in (("raster", "s"), ("hybrid, no denoiser", "P"), ("rt-baseline", "^"), ("path@equal-time", "*"),
-                         ("path, frozen@1spp", "v")):
+                         ("path@1spp, mi.render", "v"), ("path+denoiser 'fast'@1spp", "D")):
         m = by_name.get(name)
         if m is None:
             continue
-        ax.plot([m["time_ms"]], [m["flip"]], marker, markersize=9, label=f"{name} ({m['spp']} spp)" if name.startswith("path") else name)
+        ax.plot([m["time_ms"]], [m["flip"]], marker, markersize=9, label=f"{name} ({m['spp']} spp)" if name == "path@equal-time" else name)
     for name, history in by_name.items():  # a still camera: its frames together, against path given their time
         if not name.startswith("hybrid+history") or "@" in name:
             continue

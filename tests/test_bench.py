@@ -30,8 +30,9 @@ def test_bench_report_has_every_field(tmp_path):
                      "hybrid, denoiser 'high'", "hybrid 2 spp", "hybrid 4 spp", "hybrid 2 spp, denoiser 'high'",
                      "hybrid+history", "hybrid+history@1", "hybrid+history@2",
                      "hybrid+history, 8 paths/hit", "hybrid+history, 8 paths/hit@1", "hybrid+history, 8 paths/hit@2",
-                     "path@1spp", "path@2spp", "path, frozen@1spp", "path@equal-time", "path@history-time",
-                     "path@history-time, 8 paths/hit", "path+denoiser@1spp", "path+denoiser@2spp", "path+denoiser@4spp"]
+                     "path@1spp", "path@2spp", "path@1spp, mi.render", "path@equal-time", "path@history-time",
+                     "path@history-time, 8 paths/hit", "path+denoiser@1spp", "path+denoiser@2spp", "path+denoiser@4spp",
+                     "path+denoiser 'fast'@1spp"]
     by_name = {m["method"]: m for m in report["methods"]}
     for name in ("hybrid+history", "hybrid+history, 8 paths/hit"):  # all frames, and the first ones
         assert [by_name[f"{name}{at}"]["frames_accumulated"] for at in ("@1", "@2", "")] == [1, 2, report["frames"] + 3]
@@ -39,10 +40,13 @@ def test_bench_report_has_every_field(tmp_path):
     one, eight = by_name["hybrid+history"], by_name["hybrid+history, 8 paths/hit"]
     assert one["pixels_traced"] == eight["pixels_traced"] and eight["secondary_rays"] > 6 * one["secondary_rays"]
     assert by_name["path@history-time, 8 paths/hit"]["spp"] >= by_name["path@history-time"]["spp"]
-    # path replayed from a recording: the same frames as mi.render's (their error the same, to the
-    # film's atomic sums), its time in Table 3
-    plain, frozen = by_name["path@1spp"], by_name["path, frozen@1spp"]
+    # the path curve is replayed from a recording: the same frames as mi.render's (their error the
+    # same, to the film's atomic sums); both times in Table 3
+    plain, frozen = by_name["path@1spp, mi.render"], by_name["path@1spp"]
     assert frozen["flip"] == pytest.approx(plain["flip"], abs=1e-4) and frozen["time_ms"] == report["path_1spp_frozen_ms"]
+    assert plain["time_ms"] == report["path_1spp_ms"]
+    # the denoiser at 'fast' is another filter than at 'high': another image of the same 1-spp path
+    assert by_name["path+denoiser 'fast'@1spp"]["rel_mse"] != by_name["path+denoiser@1spp"]["rel_mse"]
     assert f"| {report['path_1spp_ms']:.2f} | {report['path_1spp_frozen_ms']:.2f} |" in (tmp_path / "bench.md").read_text()
     for m in report["methods"]:
         assert set(m) == {f.name for f in fields(Measurement)}
@@ -63,7 +67,7 @@ def test_bench_report_has_every_field(tmp_path):
     flight = report["gain_in_flight"]
     assert flight["pairs"] == -(-report["frames"] // 4) and flight["hybrid_ms"] > 0 and flight["rt_ms"] > 0
     assert f"{flight['median']:.3f} ({flight['hybrid_ms']:.2f} / {flight['rt_ms']:.2f})" in (tmp_path / "bench.md").read_text()
-    assert report["triangles"] == 10264 and report["width"] == 48 and report["height"] == 32
+    assert report["name"] == "default" and report["triangles"] == 10264 and report["width"] == 48 and report["height"] == 32
     assert report["command"].startswith("hybrid bench ")
     assert (tmp_path / "default.png").stat().st_size > 0 and "Table 3 layout" in (tmp_path / "bench.md").read_text()
 
