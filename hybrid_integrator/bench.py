@@ -35,8 +35,11 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 - with accuracy, also the rest of the time–error plane: the hybrid without the denoiser, with
   OIDN 'high', at 2 and 4 spp, with history; ``path+denoiser@Nspp``: ``path`` and its guides
   replayed from one recording, then the same denoiser at 'high' (``compare.timed_path_denoised``);
-  and ``path+denoiser 'fast'@1spp``: the same at the hybrid's default quality, 'fast', against the
-  hybrid's default frame;
+  ``path+denoiser 'fast'@1spp``: the same at the hybrid's default quality, 'fast', against the
+  hybrid's default frame; and against each still-camera history, ``path`` given the total time of
+  its frames (``path@history-time``), raw and with the denoiser the history's frames have
+  (``path+denoiser@history-time``: the same spp; before issue 10's stop 49 only the raw one, a
+  rival without the denoiser the history has);
 
 with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
 error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
@@ -71,7 +74,7 @@ import numpy as np
 from .compare import ground_truth, render_path, timed_path, timed_path_denoised
 from .errors import HybridError
 from .metrics import errors_in_parallel
-from .pipeline import resolve_refine
+from .pipeline import HybridSettings, resolve_refine
 from .primary import resolve_outline
 from .procedural import procedural_scene, scene_triangles
 from .raster.context import machine
@@ -89,9 +92,10 @@ HISTORY_PATHS = 8
 IN_FLIGHT_BLOCK = 5
 
 
-def history_rival(method: str) -> str:
-    """The ``path`` row given the total time of a history row's frames."""
-    return "path@history-time" + method.removeprefix("hybrid+history")
+def history_rival(method: str, denoised: bool = False) -> str:
+    """The ``path`` row given the total time of a history row's frames (``denoised``: ``path`` +
+    the hybrid's denoiser at the same spp)."""
+    return ("path+denoiser" if denoised else "path") + "@history-time" + method.removeprefix("hybrid+history")
 
 
 def error_frames(spp: int, raw: bool) -> int:
@@ -287,16 +291,24 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         fixed = max(first.time_ms - per_spp * first.spp, 0.0)
         # at most 16× the curve's last point: further out the line is a guess
         path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
-        # each history's frames, all of them, against path given their total time
+        def path_denoised(method: str, path_spp: int, quality: str) -> None:
+            image, times = timed_path_denoised(scene, path_spp, max_depth, seed, repeats=frames, quality=quality)
+            images.append([image])
+            rows.append(Measurement(method, "path+denoiser", statistics.median(times), times, nan, nan, nan, path_spp))
+
+        # each history's frames, all of them, against path given their total time: raw (the
+        # paper's rival, a path tracer) and with the denoiser the history's frames have, at the
+        # same spp (its guides and filter add a few ms to that time)
+        quality = properties.get("denoise_quality", HybridSettings.denoise_quality)
         for history in histories:
             total = history.time_ms * history.frames_accumulated
-            path(history_rival(history.method), int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp)))
+            rival_spp = int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp))
+            path(history_rival(history.method), rival_spp)
+            path_denoised(history_rival(history.method, denoised=True), rival_spp, quality)
         # path + the same denoiser: 'high' at 1, 2, 4 spp; 'fast', the hybrid's default, at 1 spp
-        for s, quality, label in ((1, "high", "path+denoiser@1spp"), (2, "high", "path+denoiser@2spp"),
-                                  (4, "high", "path+denoiser@4spp"), (1, "fast", "path+denoiser 'fast'@1spp")):
-            image, times = timed_path_denoised(scene, s, max_depth, seed, repeats=frames, quality=quality)
-            images.append([image])
-            rows.append(Measurement(label, "path+denoiser", statistics.median(times), times, nan, nan, nan, s))
+        for s in (1, 2, 4):
+            path_denoised(f"path+denoiser@{s}spp", s, "high")
+        path_denoised("path+denoiser 'fast'@1spp", 1, "fast")
         # the errors after every timing: their workers take every core
         tests = [np.array(image, dtype=np.float32)[..., :3] for row in images for image in row]
         errors = iter(errors_in_parallel(tests, [reference] * len(tests)))
@@ -519,10 +531,11 @@ def chart(report: dict, path: Path) -> None:
         for m in steps:
             ax.annotate(str(m["frames_accumulated"]), (m["time_ms"] * m["frames_accumulated"], m["flip"]), fontsize=7,
                         xytext=(3, -9), textcoords="offset points")
-        p = by_name.get(history_rival(name))
-        if p:
-            ax.plot([p["time_ms"]], [p["flip"]], "x", color=line.get_color(), markersize=10,
-                    label=f"path at its total time ({p['spp']} spp)")
+        for denoised, marker, what in ((False, "x", "path"), (True, "+", "path + denoiser")):
+            p = by_name.get(history_rival(name, denoised))
+            if p:
+                ax.plot([p["time_ms"]], [p["flip"]], marker, color=line.get_color(), markersize=10,
+                        label=f"{what} at its total time ({p['spp']} spp)")
     ax.set_xscale("log")
     ax.set_yscale("log")  # a still camera's history goes an order of magnitude below one frame's error
     ax.set_xlabel("time per frame (ms, log)")

@@ -31,8 +31,9 @@ def test_bench_report_has_every_field(tmp_path):
                      "hybrid+history", "hybrid+history@1", "hybrid+history@2",
                      "hybrid+history, 8 paths/hit", "hybrid+history, 8 paths/hit@1", "hybrid+history, 8 paths/hit@2",
                      "path@1spp", "path@2spp", "path@1spp, mi.render", "path@equal-time", "path@history-time",
-                     "path@history-time, 8 paths/hit", "path+denoiser@1spp", "path+denoiser@2spp", "path+denoiser@4spp",
-                     "path+denoiser 'fast'@1spp"]
+                     "path+denoiser@history-time", "path@history-time, 8 paths/hit",
+                     "path+denoiser@history-time, 8 paths/hit", "path+denoiser@1spp", "path+denoiser@2spp",
+                     "path+denoiser@4spp", "path+denoiser 'fast'@1spp"]
     by_name = {m["method"]: m for m in report["methods"]}
     for name in ("hybrid+history", "hybrid+history, 8 paths/hit"):  # all frames, and the first ones
         assert [by_name[f"{name}{at}"]["frames_accumulated"] for at in ("@1", "@2", "")] == [1, 2, report["frames"] + 3]
@@ -40,6 +41,10 @@ def test_bench_report_has_every_field(tmp_path):
     one, eight = by_name["hybrid+history"], by_name["hybrid+history, 8 paths/hit"]
     assert one["pixels_traced"] == eight["pixels_traced"] and eight["secondary_rays"] > 6 * one["secondary_rays"]
     assert by_name["path@history-time, 8 paths/hit"]["spp"] >= by_name["path@history-time"]["spp"]
+    # each history's rivals: path raw and path + the denoiser the history's frames have, at one spp
+    for suffix in ("", ", 8 paths/hit"):
+        raw, denoised = by_name[f"path@history-time{suffix}"], by_name[f"path+denoiser@history-time{suffix}"]
+        assert raw["spp"] == denoised["spp"] and denoised["kind"] == "path+denoiser"
     # the path curve is replayed from a recording: the same frames as mi.render's (their error the
     # same, to the film's atomic sums); both times in Table 3
     plain, frozen = by_name["path@1spp, mi.render"], by_name["path@1spp"]
