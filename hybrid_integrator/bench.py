@@ -280,6 +280,11 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         rows.append(Measurement(method, "path", statistics.median(times), times, nan, nan, nan, path_spp))
         return rows[-1]
 
+    def path_denoised(method: str, path_spp: int, quality: str) -> None:
+        image, times = timed_path_denoised(scene, path_spp, max_depth, seed, repeats=frames, quality=quality)
+        images.append([image])
+        rows.append(Measurement(method, "path+denoiser", statistics.median(times), times, nan, nan, nan, path_spp))
+
     equal_time = None
     # the whole curve where errors are measured; its first point (the 1-spp time) always
     curve = [path(f"path@{s}spp", s) for s in (2 ** k for k in range(max_path_spp.bit_length() if accuracy else 1))]
@@ -291,20 +296,16 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         fixed = max(first.time_ms - per_spp * first.spp, 0.0)
         # at most 16× the curve's last point: further out the line is a guess
         path("path@equal-time", int(np.clip((everything.time_ms - fixed) / per_spp, 1, 16 * last.spp)))
-        def path_denoised(method: str, path_spp: int, quality: str) -> None:
-            image, times = timed_path_denoised(scene, path_spp, max_depth, seed, repeats=frames, quality=quality)
-            images.append([image])
-            rows.append(Measurement(method, "path+denoiser", statistics.median(times), times, nan, nan, nan, path_spp))
-
         # each history's frames, all of them, against path given their total time: raw (the
-        # paper's rival, a path tracer) and with the denoiser the history's frames have, at the
-        # same spp (its guides and filter add a few ms to that time)
+        # paper's rival, a path tracer) and with the denoiser the history's frames have, if any, at
+        # the same spp (its guides and filter add a few ms to that time)
         quality = properties.get("denoise_quality", HybridSettings.denoise_quality)
         for history in histories:
             total = history.time_ms * history.frames_accumulated
             rival_spp = int(np.clip((total - fixed) / per_spp, 1, 16 * last.spp))
             path(history_rival(history.method), rival_spp)
-            path_denoised(history_rival(history.method, denoised=True), rival_spp, quality)
+            if properties.get("denoise", HybridSettings.denoise):
+                path_denoised(history_rival(history.method, denoised=True), rival_spp, quality)
         # path + the same denoiser: 'high' at 1, 2, 4 spp; 'fast', the hybrid's default, at 1 spp
         for s in (1, 2, 4):
             path_denoised(f"path+denoiser@{s}spp", s, "high")
