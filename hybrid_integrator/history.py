@@ -22,7 +22,7 @@ from __future__ import annotations
 import ctypes
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import drjit as dr
@@ -60,9 +60,15 @@ def _load() -> tuple | None:
     return history, libc.free
 
 
-def _entry(data, k: int) -> _Entry:
-    """Entry ``k`` of the array ``jit_kernel_history`` returned (ended by an entry of backend 0)."""
-    return _Entry.from_address(ctypes.cast(data, ctypes.c_void_p).value + k * _SIZE)
+def _entries(data) -> Iterator[_Entry]:
+    """The entries of the array ``jit_kernel_history`` returned, up to the one of backend 0 that
+    ends it."""
+    base = ctypes.cast(data, ctypes.c_void_p).value
+    for k in itertools.count():
+        entry = _Entry.from_address(base + k * _SIZE)
+        if entry.backend == 0:
+            return
+        yield entry
 
 
 def _read(api: tuple) -> list[dict]:
@@ -71,10 +77,7 @@ def _read(api: tuple) -> list[dict]:
     out = []
     if not data:
         return out
-    for k in itertools.count():
-        entry = _entry(data, k)
-        if entry.backend == 0:
-            break
+    for entry in _entries(data):
         item = {"backend": entry.backend, "type": dr.KernelType(entry.type), "size": entry.size,
                 "execution_time": entry.execution_time}
         if item["type"] == dr.KernelType.JIT:
@@ -100,10 +103,11 @@ def _check(api: tuple) -> bool:
         data = history()
     if not data:
         return False
-    entry, after = _entry(data, 0), _entry(data, 1)
-    ok = (entry.backend in (1, 2) and entry.type == dr.KernelType.JIT.value and entry.size == width
-          and 0 < entry.operation_count < 100 and bool(entry.ir) and math.isfinite(entry.execution_time)
-          and entry.execution_time >= 0.0 and after.backend == 0)
+    entries = list(itertools.islice(_entries(data), 2))
+    entry = entries[0] if entries else None
+    ok = (len(entries) == 1 and entry.backend in (1, 2) and entry.type == dr.KernelType.JIT.value
+          and entry.size == width and 0 < entry.operation_count < 100 and bool(entry.ir)
+          and math.isfinite(entry.execution_time) and entry.execution_time >= 0.0)
     if ok:
         free(entry.ir)
         free(data)
