@@ -41,9 +41,14 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   (``path+denoiser@history-time``: the same spp; before issue 10's stop 49 only the raw one, a
   rival without the denoiser the history has);
 
-with the per-stage breakdown (device times, ``pipeline.FrameStats``) of every hybrid frame, and the
-error of every image against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``): FLIP, relative MSE and
-ΔE2000 (``metrics.py``), measured after all the timings, in parallel worker processes. A frame's
+The hybrid's frames are timed with ``stage_times=False`` (no kernel history: no CUDA events around
+every launch, none read after the frame; ``path`` is timed without them too; until issue 10's
+stop 50 the hybrid's timed frames carried them, 0.02-0.45 ms per frame on the H200), except the
+budgeted ones, whose cost model needs the trace's time. The per-stage breakdown (device times,
+``pipeline.FrameStats``) of DR, the hybrid and the RT baseline comes from as many frames again
+with the stage times on, and each budgeted row's from its own frames. The error of every image
+against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``), FLIP, relative
+MSE and ΔE2000 (``metrics.py``), is measured after all the timings, in parallel worker processes. A frame's
 error is a random number (its samples, and for the hybrid the one sub-pixel offset all pixels of
 a pass share): the error of a raw frame (not denoised) of at most 2 spp is the mean over
 ``ERROR_FRAMES`` frames (a hybrid run's last frames, ``path`` rendered with as many seeds); the
@@ -227,18 +232,28 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     images: list = []  # each row's images: their errors are measured after every timing
     nan = float("nan")
 
-    def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, **extra) -> Measurement:
-        props = {"freeze": freeze, **properties, **extra}
+    def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, profile: bool = False,
+               **extra) -> Measurement:
+        """A row of hybrid frames, timed without stage times (``stage_times=False``, as a
+        renderer ships the frame; a budget's frames time theirs); ``profile``: its stages' device
+        times from as many frames again with ``stage_times=True``."""
+        props = {"freeze": freeze, "stage_times": False, **properties, **extra}
         every = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                    layers=False, **props)
         results = every[warmup:]
+        profiled = [r.stats for r in results if r.stats.stages_timed]
+        if profile and not profiled:
+            profiled = [r.stats for r in hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp,
+                                                            seed=seed, layers=False,
+                                                            **dict(props, stage_times=True))[warmup:]]
         # read back only where errors are measured; an accumulating history is measured at its end
         raw = not props.get("denoise", True) and not extra.get("temporal")
         images.append([r.image for r in results[-error_frames(frame_spp or spp, raw):]])
         stats = [r.stats for r in results]
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
                           [s.times_ms["total"] for s in stats], nan, nan, nan, frame_spp or spp,
-                          {k: statistics.median(s.times_ms[k] for s in stats) for k in stats[0].times_ms},
+                          {k: statistics.median(s.times_ms[k] for s in profiled) for k in profiled[0].times_ms}
+                          if profiled else {},
                           extra.get("budget_ms"), statistics.median(s.pixels_traced for s in stats),
                           statistics.median(s.secondary_rays for s in stats),
                           warmup + frames if extra.get("temporal") else None)
@@ -251,10 +266,10 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     # warm-up: three frames (the first compiles, the second may record frozen kernels again with the
     # seed made opaque); a budgeted run's first three frames are the cost model's probes
-    raster = hybrid("raster", "raster", 3, candidates="")
-    everything = hybrid("hybrid", "hybrid", 3)
-    rt = hybrid("rt-baseline", "rt", 3, primary="raytrace")
-    paired = paired_gain(scene, {"freeze": freeze, **properties}, frames, spp, seed)
+    raster = hybrid("raster", "raster", 3, profile=True, candidates="")
+    everything = hybrid("hybrid", "hybrid", 3, profile=True)
+    rt = hybrid("rt-baseline", "rt", 3, profile=True, primary="raytrace")
+    paired = paired_gain(scene, {"freeze": freeze, "stage_times": False, **properties}, frames, spp, seed)
     # the same two frames with the next frame issued while the GPU finishes the last (inflight.py):
     # blocks of five frames in turn, four measured
     in_flight = paired_gain(scene, {"freeze": freeze, **properties, "frames_in_flight": 2}, frames, spp, seed,
@@ -435,7 +450,10 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              f"refine={first.get('refine', 'primary')} (`pipeline.resolve_refine`), "
              f"outline={first.get('outline', 'silhouettes')} (`primary.OUTLINES`)  ",
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
-             f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}).", "",
+             f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}). "
+             "The hybrid's frames are timed with `stage_times=false` (no kernel history), but for the budgets; "
+             "the device ms per stage of DR, the hybrid and the RT baseline are from as many frames again with "
+             "it on, those of a budget from its own frames, other rows have none.", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",
              "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL pass "
              "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene "

@@ -124,6 +124,17 @@ class HybridSettings:
     shadow_tier: bool = True
     raster_ahead: str = "auto"
     frames_in_flight: int = 1
+    #: time each stage on the device (Dr.Jit's kernel history: ``FrameStats.times_ms``); off, a
+    #: frame without a budget runs and reads no history: its stages are NaN, its ``total`` as
+    #: before, and the frame is 0.02-0.45 ms shorter on the H200 (the history's events around
+    #: every launch, and their readout after the synchronization; docs/results, issue 10, stop 50).
+    #: A budgeted frame times its stages whatever this says: its cost model learns the trace's time
+    stage_times: bool = True
+
+    @property
+    def times_stages(self) -> bool:
+        """Whether a frame reads its stages' device times (``stage_times``, or a budget)."""
+        return self.stage_times or self.budget_ms > 0
 
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
@@ -220,6 +231,9 @@ class FrameStats:
     #: ``times_ms`` holds ``total`` (device time, CUDA events), ``gl``, ``denoise`` and ``issue``,
     #: its stages NaN, all of them NaN until the next frame or ``HybridRenderer.finish`` reads them
     in_flight: bool = False
+    #: whether ``times_ms`` holds its stages' device times (``stage_times=False``: NaN, and
+    #: ``raster`` with them; ``gl``, ``denoise`` and ``total`` are timed still)
+    stages_timed: bool = True
 
     @property
     def budget_met(self) -> bool:
@@ -705,7 +719,7 @@ class HybridRenderer:
         next_pose = None if next_camera is None else camera_pose(next_camera)  # checked before any work
         if int(spp) < 0:
             raise HybridError(f"spp={spp} is impossible: give a number of samples per pixel >= 1 (0: the scene's sampler's)")
-        with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        with dr.scoped_set_flag(dr.JitFlag.KernelHistory, settings.times_stages):
             dr.kernel_history_clear()
             clock = _HostClock()
             span, after = self._begin(settings)
@@ -1165,7 +1179,11 @@ class HybridRenderer:
         """After the frame's synchronization: the device time of its stages, and the cost model
         taught the trace's time (:meth:`_account`'s ``learnt``)."""
         stats = frame.stats
-        stats.times_ms.update(self.clock.frame_times())
+        if settings.times_stages:
+            stats.times_ms.update(self.clock.frame_times())
+        else:  # no history was kept (``stage_times=False``): nothing to read
+            stats.times_ms.update(dict.fromkeys((k for k in STAGES if k != "denoise"), math.nan))
+            stats.stages_timed = False
         self._timers(frame)
         if settings.primary == "raster" and math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
             stats.times_ms["raster"] += stats.times_ms["gl"]

@@ -58,6 +58,10 @@ def test_bench_report_has_every_field(tmp_path):
         assert m["time_ms"] > 0 and 0 < m["flip"] < 1 and math.isfinite(m["rel_mse"]) and m["delta_e2000"] >= 0
     hybrid = next(m for m in report["methods"] if m["method"] == "hybrid")
     assert set(hybrid["stages_ms"]) >= {"raster", "lighting", "select", "trace", "compose", "total"}
+    # timed without the kernel history (stage_times=False): the stages of DR, the hybrid and the
+    # RT baseline from frames of their own, a budget's from its frames, the other rows' not timed
+    assert all(by_name[name]["stages_ms"]["trace"] >= 0 for name in ("raster", "rt-baseline", "hybrid@50%"))
+    assert hybrid["stages_ms"]["trace"] > 0 and by_name["hybrid, no denoiser"]["stages_ms"] == {}
     assert hybrid["secondary_rays"] > 0
     # the baseline traces the same pixels from camera rays: same image, same error
     rt = next(m for m in report["methods"] if m["method"] == "rt-baseline")

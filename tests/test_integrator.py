@@ -261,6 +261,32 @@ def test_properties_from_a_dict():
         (3, True, "raytrace", ("shadow", "indirect"), "floor, block", 0.7, 12.5)
 
 
+def test_stage_times_off_renders_the_same_frames_without_the_kernel_history():
+    """``stage_times=false`` (XML and dict): the same images and counts as with the stage times,
+    whose entries are NaN (no kernel history kept or read) while ``total`` and the denoiser's time
+    are measured; a budgeted frame times its stages regardless (its cost model learns the trace's
+    time)."""
+    import math
+
+    from hybrid_integrator.raster.camera import sensor_to_world
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=64, resy=40)
+    still = [sensor_to_world(scene.sensors()[0])] * 3
+    timed = hi.render_sequence(scene, still, seed=3, layers=False)
+    untimed = hi.render_sequence(scene, still, seed=3, layers=False, stage_times=False)
+    for a, b in zip(timed, untimed):
+        assert np.array_equal(np.array(a.image), np.array(b.image))
+        assert (a.stats.rays, a.stats.pixels_traced) == (b.stats.rays, b.stats.pixels_traced)
+        assert a.stats.stages_timed and not b.stats.stages_timed
+        assert a.stats.times_ms["trace"] > 0 and a.stats.times_ms["lighting"] > 0
+        assert all(math.isnan(b.stats.times_ms[k]) for k in ("raster", "lighting", "select", "trace", "compose"))
+        assert b.stats.times_ms["total"] > 0 and b.stats.times_ms["denoise"] > 0
+    integrator = mi.load_dict({"type": "hybrid", "stage_times": False})
+    assert integrator.settings.stage_times is False and not integrator.settings.times_stages
+    budgeted = hi.render_sequence(scene, still + still[:1], seed=3, layers=False, stage_times=False, budget_ms=50.0)
+    assert all(r.stats.stages_timed and r.stats.times_ms["trace"] > 0 for r in budgeted)
+
+
 def test_rays_follow_the_candidates():
     """Per-pixel random streams make ray counts additive over disjoint candidate sets, and no pixel
     outside the candidates is traced."""
