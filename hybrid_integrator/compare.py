@@ -131,6 +131,12 @@ def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, re
     ``aov`` renders it twice: its ``render`` renders the nested integrator, and its own samples
     call the nested integrator again for a copy of the colour that it drops; that doubled the
     baseline's time before stop 46, docs/results/README.md.)"""
+    render = path_denoised_renders(scene, spp, max_depth, quality, frozen)
+    return _timed(lambda: render(seed), repeats)
+
+
+def path_denoised_renders(scene: mi.Scene, spp: int, max_depth: int, quality: str = "high", frozen: bool = True):
+    """The frame :func:`timed_path_denoised` times, as a function of the seed (recorded here)."""
     from .denoise import Denoiser, Guides
     from .raster.camera import sensor_like
 
@@ -145,7 +151,7 @@ def timed_path_denoised(scene: mi.Scene, spp: int, max_depth: int, seed: int, re
         colour, first = renders(seed)
         return denoiser(colour[..., 0:3], Guides(albedo=first[..., 0:3], normal=first[..., 3:6]))
 
-    return _timed(lambda: render(seed), repeats)
+    return render
 
 
 def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int, max_depth: int) -> tuple[np.ndarray, Path, bool]:
