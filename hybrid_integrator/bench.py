@@ -43,7 +43,7 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 
 The hybrid's frames are timed with ``stage_times=False`` (no kernel history: no CUDA events around
 every launch, none read after the frame; ``path`` is timed without them too; until issue 10's
-stop 50 the hybrid's timed frames carried them, 0.02-0.45 ms per frame on the H200), except the
+stop 50 the hybrid's timed frames carried them: 0.19-0.26 ms per frame on the H200), except the
 budgeted ones, whose cost model needs the trace's time. The per-stage breakdown (device times,
 ``pipeline.FrameStats``) of DR, the hybrid and the RT baseline comes from as many frames again
 with the stage times on, and each budgeted row's from its own frames. The error of every image

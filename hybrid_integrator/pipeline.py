@@ -30,6 +30,9 @@ wall-clock time, from the call until its image and statistics are on hand after 
 synchronization, and ``issue`` the part of it the host took to issue the frame's work. With
 ``frames_in_flight=2`` (``inflight.py``) a frame does not synchronize: the next frame reads its
 counts and its times (``total`` then is device time between CUDA events; its stages are NaN).
+The kernel history is instrumentation (a pair of CUDA events around every launch, read back after
+the synchronization): ``stage_times=False`` leaves it off in a frame without a budget, whose
+stages are then NaN (a budget learns from the trace's time, so its frames keep it).
 """
 from __future__ import annotations
 
@@ -126,7 +129,7 @@ class HybridSettings:
     frames_in_flight: int = 1
     #: time each stage on the device (Dr.Jit's kernel history: ``FrameStats.times_ms``); off, a
     #: frame without a budget runs and reads no history: its stages are NaN, its ``total`` as
-    #: before, and the frame is 0.02-0.45 ms shorter on the H200 (the history's events around
+    #: before, and the frame is 0.19-0.26 ms shorter on the H200 (the history's events around
     #: every launch, and their readout after the synchronization; docs/results, issue 10, stop 50).
     #: A budgeted frame times its stages whatever this says: its cost model learns the trace's time
     stage_times: bool = True
