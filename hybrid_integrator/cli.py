@@ -62,11 +62,14 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--raster-ahead", dest="raster_ahead", choices=("auto", "on", "off"),
                    help="a still camera's frame draws the next frame's visibility buffer at its end, run by OpenGL "
                         "once the frame's CUDA work is done (default: auto, on with CUDA-OpenGL interop)")
+    g.add_argument("--stage-times", dest="stage_times", action=argparse.BooleanOptionalAction, default=None,
+                   help="time each stage on the device from Dr.Jit's kernel history (default: on; off, a frame "
+                        "without a budget reports only its total, gl and denoise times, and is shorter)")
 
 
 def _properties(args) -> dict:
     names = ("primary", "raster", "refine", "outline", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
-             "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead")
+             "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead", "stage_times")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 
 

@@ -375,6 +375,11 @@ def test_cli_render_writes_exr_png_and_stats(tmp_path, capsys):
     stats = json.loads(out.with_suffix(".json").read_text())
     assert stats == report["stats"] and stats["spp"] == 2 and stats["rays"]["refraction"] == 0
     assert mi.Bitmap(str(out.with_suffix(".png"))).width() == 64
+    # --no-stage-times: the frame keeps no kernel history; its stats say so (stages NaN)
+    assert cli(["render", str(DEFAULT_SCENE), "-o", str(out), "-D", "resx=64", "-D", "resy=48", "--no-stage-times"]) == 0
+    stats = json.loads(capsys.readouterr().out)["stats"]
+    assert stats["stages_timed"] is False and stats["times_ms"]["trace"] != stats["times_ms"]["trace"]  # NaN
+    assert stats["times_ms"]["total"] > 0
 
 
 def test_cli_compare_reports_time_and_error(tmp_path, capsys, monkeypatch):
