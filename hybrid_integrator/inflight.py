@@ -25,7 +25,8 @@ What a frame in flight gives up:
 
 - Dr.Jit 1.5 synchronizes the thread to read its kernel history (``jit_kernel_history`` calls
   ``jitc_sync_thread``), so a frame in flight has no per-stage device times (NaN in
-  ``FrameStats.times_ms``), only what CUDA events and OpenGL timer queries give without a
+  ``FrameStats.times_ms``), and keeps no history (until stop 50 it recorded one, CUDA events around
+  every launch, that nothing read), only what CUDA events and OpenGL timer queries give without a
   synchronization: ``total``, the device time from the end of the frame before (if it was still
   in flight when this one started: in a sequence, the GPU's period from one frame's end to the
   next's, time the GPU waited for the host included) or else from this frame's first work on

@@ -135,9 +135,18 @@ class HybridSettings:
     stage_times: bool = True
 
     @property
+    def in_flight(self) -> bool:
+        """Whether a frame is rendered in flight: two frames in flight and no budget (a budget
+        learns from the trace's time, which only a synchronization gives; ``inflight.py``)."""
+        return self.frames_in_flight > 1 and self.budget_ms <= 0
+
+    @property
     def times_stages(self) -> bool:
-        """Whether a frame reads its stages' device times (``stage_times``, or a budget)."""
-        return self.stage_times or self.budget_ms > 0
+        """Whether a frame keeps and reads Dr.Jit's kernel history for its stages' device times:
+        with ``stage_times`` or a budget, but not in flight (Dr.Jit reads its history only after
+        a synchronization, so a frame in flight never reads it: until stop 50 it kept one
+        anyway, its events recorded for nothing)."""
+        return (self.stage_times or self.budget_ms > 0) and not self.in_flight
 
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
@@ -766,7 +775,7 @@ class HybridRenderer:
         started, and the span of the frame before if that is still in flight; else (None, None),
         once the frame before, if in flight, is finished: what it teaches, before this frame plans
         (on a clock of its own: not this frame's time)."""
-        if settings.frames_in_flight > 1 and settings.budget_ms <= 0:
+        if settings.in_flight:
             span = self._spans.pop() if self._spans else FrameSpan()
             span.start()
             return span, self._in_flight.span if self._in_flight is not None else None

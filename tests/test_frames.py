@@ -204,6 +204,12 @@ def test_frames_in_flight_render_the_same_frames_and_read_their_times_later():
         assert t["total"] > 0 and t["denoise"] > 0 and t["issue"] > 0 and math.isnan(t["trace"]), t
         assert math.isfinite(a.stats.times_ms["trace"])
     assert [b.stats.raster_ahead for b in two] == [a.stats.raster_ahead for a in one] == [0, 1, 1, 1]
+    # a frame in flight keeps no kernel history (it could never read it): none left behind
+    import drjit as dr
+
+    dr.kernel_history_clear()
+    hi.render_sequence(scene, cameras[:2], frames_in_flight=2, **common)
+    assert dr.kernel_history() == []
     # a frame in flight, then one with a budget: the first's times come with the second
     integrator = _integrator(dict(frames_in_flight=2))
     first = integrator.render_result(scene, seed=1, spp=1, layers=False)
