@@ -243,8 +243,8 @@ class FrameStats:
     #: ``times_ms`` holds ``total`` (device time, CUDA events), ``gl``, ``denoise`` and ``issue``,
     #: its stages NaN, all of them NaN until the next frame or ``HybridRenderer.finish`` reads them
     in_flight: bool = False
-    #: whether ``times_ms`` holds its stages' device times (``stage_times=False``: NaN, and
-    #: ``raster`` with them; ``gl``, ``denoise`` and ``total`` are timed still)
+    #: whether ``times_ms`` holds its stages' device times (``stage_times=False``, or in flight:
+    #: NaN, and ``raster`` with them; ``gl``, ``denoise`` and ``total`` are timed still)
     stages_timed: bool = True
 
     @property
@@ -827,6 +827,7 @@ class HybridRenderer:
         else:  # its times and its lesson once the GPU is done with it
             self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
             frame.stats.in_flight = True
+            frame.stats.stages_timed = False
             unread = [k for k in STAGES if k != "denoise"] + ["total"]
             unread += ["denoise"] * (frame.denoiser is not None) + ["gl"] * (settings.primary == "raster")
             frame.stats.times_ms.update(dict.fromkeys(unread, math.nan))

@@ -5,9 +5,9 @@
 #   bash docs/results/gpu/issue10/stop50/run.sh cost SCENE...    # each kind of frame with the stage times on / off
 #     in turn, then path at 1 spp frozen and path + OIDN 'fast' (scripts/history_cost.py, 30 frames each)
 #   bash docs/results/gpu/issue10/stop50/run.sh rivals SCENE...  # the default frame against path 1 spp (frozen) and
-#     path + OIDN 'fast', frame by frame in turn (rivals_in_turn.py, 30 rounds)
+#     path + OIDN 'fast', frame by frame in turn (probes.py rivals, 30 rounds)
 #   bash docs/results/gpu/issue10/stop50/run.sh inflight SCENE...  # frames in flight without / with the kernel
-#     history they never read, in turn (inflight_history.py, 40 frames per side)
+#     history they never read, in turn (probes.py inflight, 40 frames per side)
 #   bash docs/results/gpu/issue10/stop50/run.sh bench SCENE...   # the timing bench, hybrid frames timed without
 #     the kernel history (hybrid bench --frames 20 --no-accuracy --max-path-spp 1 --budgets 0.25 0.5 0.75)
 set -uo pipefail
@@ -19,9 +19,9 @@ mode=$1; shift
 case $mode in
   cost) python3 scripts/history_cost.py --variant cuda_ad_rgb --frames 30 \
           $(for s in "$@"; do echo scenes/$s.xml; done) $D 2>&1 | grep -v "^jit_\|^Info\|^\s*$" ;;
-  rivals) python3 docs/results/gpu/issue10/stop50/rivals_in_turn.py --variant cuda_ad_rgb \
+  rivals) python3 docs/results/gpu/issue10/stop50/probes.py rivals --variant cuda_ad_rgb \
             $(for s in "$@"; do echo scenes/$s.xml; done) $D 2>&1 | grep -v "^jit_\|^Info\|^\s" ;;
-  inflight) python3 docs/results/gpu/issue10/stop50/inflight_history.py --variant cuda_ad_rgb \
+  inflight) python3 docs/results/gpu/issue10/stop50/probes.py inflight --variant cuda_ad_rgb \
               $(for s in "$@"; do echo scenes/$s.xml; done) $D 2>&1 | grep -v "^jit_\|^Info\|^\s" ;;
   bench) for s in "$@"; do
            python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1 \
