@@ -232,12 +232,15 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     images: list = []  # each row's images: their errors are measured after every timing
     nan = float("nan")
 
+    # every hybrid frame's properties: timed without the kernel history (module docstring)
+    base = {"freeze": freeze, "stage_times": False, **properties}
+
     def hybrid(method: str, kind: str, warmup: int, frame_spp: int | None = None, profile: bool = False,
                **extra) -> Measurement:
         """A row of hybrid frames, timed without stage times (``stage_times=False``, as a
         renderer ships the frame; a budget's frames time theirs); ``profile``: its stages' device
         times from as many frames again with ``stage_times=True``."""
-        props = {"freeze": freeze, "stage_times": False, **properties, **extra}
+        props = {**base, **extra}
         every = hi.render_sequence(scene, [camera] * (warmup + frames), spp=frame_spp or spp, seed=seed,
                                    layers=False, **props)
         results = every[warmup:]
@@ -269,10 +272,10 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     raster = hybrid("raster", "raster", 3, profile=True, candidates="")
     everything = hybrid("hybrid", "hybrid", 3, profile=True)
     rt = hybrid("rt-baseline", "rt", 3, profile=True, primary="raytrace")
-    paired = paired_gain(scene, {"freeze": freeze, "stage_times": False, **properties}, frames, spp, seed)
+    paired = paired_gain(scene, base, frames, spp, seed)
     # the same two frames with the next frame issued while the GPU finishes the last (inflight.py):
     # blocks of five frames in turn, four measured
-    in_flight = paired_gain(scene, {"freeze": freeze, **properties, "frames_in_flight": 2}, frames, spp, seed,
+    in_flight = paired_gain(scene, {**base, "frames_in_flight": 2}, frames, spp, seed,
                             block=IN_FLIGHT_BLOCK)
     trace_all = everything.stages_ms["trace"]
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)

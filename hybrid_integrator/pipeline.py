@@ -255,6 +255,12 @@ class FrameStats:
     def secondary_rays(self) -> int:
         return sum(self.rays[k] for k in RAY_KINDS)
 
+    def untimed(self) -> None:
+        """No kernel history was read for this frame (``stage_times=False``, or in flight): its
+        stages NaN, ``raster`` with them, and ``stages_timed`` false."""
+        self.times_ms.update(dict.fromkeys((k for k in STAGES if k != "denoise"), math.nan))
+        self.stages_timed = False
+
     def as_dict(self) -> dict:
         return {**asdict(self), "secondary_rays": self.secondary_rays, "budget_met": self.budget_met}
 
@@ -827,9 +833,8 @@ class HybridRenderer:
         else:  # its times and its lesson once the GPU is done with it
             self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
             frame.stats.in_flight = True
-            frame.stats.stages_timed = False
-            unread = [k for k in STAGES if k != "denoise"] + ["total"]
-            unread += ["denoise"] * (frame.denoiser is not None) + ["gl"] * (settings.primary == "raster")
+            frame.stats.untimed()
+            unread = ["total"] + ["denoise"] * (frame.denoiser is not None) + ["gl"] * (settings.primary == "raster")
             frame.stats.times_ms.update(dict.fromkeys(unread, math.nan))
             self.clock.discard()  # no kernel history is read for it
         frame.stats.host_ms = {k: clock.phases.get(k, 0.0) for k in HOST_PHASES}
@@ -1195,8 +1200,7 @@ class HybridRenderer:
         if settings.times_stages:
             stats.times_ms.update(self.clock.frame_times())
         else:  # no history was kept (``stage_times=False``): nothing to read
-            stats.times_ms.update(dict.fromkeys((k for k in STAGES if k != "denoise"), math.nan))
-            stats.stages_timed = False
+            stats.untimed()
         self._timers(frame)
         if settings.primary == "raster" and math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
             stats.times_ms["raster"] += stats.times_ms["gl"]

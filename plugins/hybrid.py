@@ -141,7 +141,8 @@ Properties
                  events around every launch and is read after the frame's synchronization.
                  false: a frame without a budget keeps no history (its stages NaN,
                  ``stats.stages_timed`` false; ``total``, ``gl`` and ``denoise`` still timed): the
-                 frame as a renderer ships it, 0.19-0.26 ms shorter on the H200. A budgeted frame
+                 frame as a renderer ships it, 0.19-0.26 ms shorter on the H200 (``bash
+                 docs/results/gpu/issue10/stop50/run.sh cost SCENE…``). A budgeted frame
                  times its stages regardless: its cost model learns the trace's time.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 

@@ -262,7 +262,7 @@ def test_properties_from_a_dict():
 
 
 def test_stage_times_off_renders_the_same_frames_without_the_kernel_history():
-    """``stage_times=false`` (XML and dict): the same images and counts as with the stage times,
+    """``stage_times=false`` (as a property and through ``mi.load_dict``): the same images and counts as with the stage times,
     whose entries are NaN (no kernel history kept or read) while ``total`` and the denoiser's time
     are measured; a budgeted frame times its stages regardless (its cost model learns the trace's
     time)."""
