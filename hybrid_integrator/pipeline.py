@@ -41,6 +41,7 @@ import dataclasses
 import functools
 import math
 import time
+import typing
 from dataclasses import asdict, dataclass, field
 
 import drjit as dr
@@ -100,6 +101,19 @@ def resolve_refine(refine: str, traces: bool = True, variant: str | None = None)
     return refine
 
 
+#: the Python types a property of each plain declared type accepts (``HybridSettings._check_types``)
+_PROPERTY_TYPES = {int: (int, np.integer), float: (int, float, np.integer, np.floating), bool: (bool, np.bool_),
+                   str: (str,)}
+_PROPERTY_NAMES = {int: "an integer", float: "a number", bool: "a boolean (true or false)", str: "a string"}
+
+
+
+@functools.lru_cache(maxsize=None)
+def _declared_types(cls) -> dict:
+    """A dataclass's fields' declared types, resolved once."""
+    return typing.get_type_hints(cls)
+
+
 @dataclass(frozen=True)
 class HybridSettings:
     """The ``hybrid`` integrator's properties (see ``plugins/hybrid.py`` for their meaning)."""
@@ -148,6 +162,23 @@ class HybridSettings:
         anyway, its events recorded for nothing)."""
         return (self.stage_times or self.budget_ms > 0) and not self.in_flight
 
+    def _check_types(self) -> None:
+        """Each property of a plain type has a value of that type (Mitsuba's own properties are
+        typed: ``<boolean>``, ``<integer>``, ``<float>``, ``<string>``; from Python, ``"no"``
+        for a boolean would be read as true and ``2.5`` paths per hit traced as ``range(2.5)``
+        fails deep in the frame). A float takes an integer, and is stored as a float; a
+        ``bool`` is no number here (``max_depth=True`` is a mistake, not 1)."""
+        # the declared types resolved (a field's ``type`` is its annotation's text until Dr.Jit's
+        # traversal of a dataclass resolves it in place: both are seen)
+        for name, declared in _declared_types(type(self)).items():
+            accepted = _PROPERTY_TYPES.get(declared)
+            value = getattr(self, name)
+            if accepted is None:
+                continue
+            if not isinstance(value, accepted) or (declared is not bool and isinstance(value, (bool, np.bool_))):
+                raise HybridError(f"{name}={value!r} must be {_PROPERTY_NAMES[declared]} (got {type(value).__name__})")
+            object.__setattr__(self, name, declared(value))
+
     @classmethod
     def from_properties(cls, values: dict) -> "HybridSettings":
         """The settings of the integrator's properties (names as in ``plugins/hybrid.py``);
@@ -159,6 +190,7 @@ class HybridSettings:
         return cls(**values)
 
     def __post_init__(self):
+        self._check_types()
         if self.primary not in PRIMARY_SOURCES:
             raise HybridError(f"primary='{self.primary}' is not one of {list(PRIMARY_SOURCES)}")
         resolve_method(self.raster)  # a clear error for an unknown method

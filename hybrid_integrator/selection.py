@@ -44,6 +44,8 @@ def lobes(effects: tuple[str, ...]) -> int:
 
 def parse_effects(value) -> tuple[str, ...]:
     """``"shadow, reflection"`` or a sequence of names → a tuple in canonical order."""
+    if not isinstance(value, str) and not (isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value)):
+        raise HybridError(f"effects={value!r} must be names of effects, as \"shadow, reflection\" or a list of them")
     names = [v.strip() for v in (value.split(",") if isinstance(value, str) else value) if v.strip()]
     unknown = [n for n in names if n not in EFFECTS]
     if unknown:

@@ -146,6 +146,10 @@ Properties
                  times its stages regardless: its cost model learns the trace's time.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
+Each property has the type its XML tag above says (from Python: ``bool``, ``int``, a number, ``str``;
+a float takes an integer): another is an error naming the property, as ``denoise='no' must be a
+boolean``, not a value read as something else.
+
 ``blend``, ``budget_ms`` and ``importance`` are exposed to ``mi.traverse``. The selection of the
 last frame and the cost model are carried from one ``render`` call to the next (``self.state``). ``mi.render(scene)`` returns the
 image; the last frame's layers and statistics are in ``integrator.last_result``.

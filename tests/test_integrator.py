@@ -349,10 +349,19 @@ def test_bad_properties_are_clear_errors():
              ({"outline": "edges"}, "outline='edges' is not one of"),
              ({"blend": 1.5}, r"blend=1.5 must lie in \[0, 1\]"), ({"budget_ms": -1.0}, "budget_ms=-1.0 is impossible"),
              ({"budget_ms": float("nan")}, "budget_ms=nan is impossible"), ({"max_depth": -3}, "max_depth=-3"),
-             ({"colour": 1}, "has no property 'colour'")]
+             ({"colour": 1}, "has no property 'colour'"),
+             # typed like Mitsuba's own properties: "no" is not false, nor 2.5 a number of paths
+             ({"denoise": "no"}, r"denoise='no' must be a boolean"),
+             ({"secondary_spp": 2.5}, r"secondary_spp=2.5 must be an integer"),
+             ({"max_depth": True}, r"max_depth=True must be an integer"),
+             ({"budget_ms": "2"}, r"budget_ms='2' must be a number"),
+             ({"effects": 3}, r"effects=3 must be names of effects")]
     for props, message in cases:
         with pytest.raises(Exception, match=message):
             mi.load_dict({"type": "hybrid", **props})
+    with pytest.raises(hi.HybridError, match=r"stage_times='off' must be a boolean"):
+        hi.render(load(DEFAULT_SCENE), spp=1, stage_times="off")
+    assert mi.load_dict({"type": "hybrid", "budget_ms": 2}).settings.budget_ms == 2.0  # an integer is a number
     with pytest.raises(hi.HybridError, match=r"unknown candidate object id\(s\) \['teapot'\]"):
         hi.render(load(DEFAULT_SCENE), spp=1, candidates="floor,teapot")
 
