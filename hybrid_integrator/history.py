@@ -23,6 +23,7 @@ import ctypes
 import itertools
 import math
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import drjit as dr
@@ -44,6 +45,8 @@ _SIZE = ctypes.sizeof(_Entry)
 
 #: the reader :func:`reader` gives, once checked
 _READER: Callable[[], list[dict]] | None = None
+_API: tuple | None = None  # Dr.Jit's C API functions (``_load``), once checked
+_WORKER: ThreadPoolExecutor | None = None  # the thread of :func:`read_ahead`'s reads
 #: "C API" or "drjit.kernel_history" (a fallback: the symbol is missing or its layout check failed)
 READER = "drjit.kernel_history"
 
@@ -72,8 +75,12 @@ def _entries(data) -> Iterator[_Entry]:
 
 
 def _read(api: tuple) -> list[dict]:
-    history, free = api
-    data = history()
+    return _parse(api, api[0]())
+
+
+def _parse(api: tuple, data) -> list[dict]:
+    """The entries of what ``jit_kernel_history`` returned, freed."""
+    free = api[1]
     out = []
     if not data:
         return out
@@ -114,16 +121,41 @@ def _check(api: tuple) -> bool:
     return ok
 
 
+def read_ahead() -> Callable[[], list[dict]]:
+    """Start reading the kernel history (:func:`reader`) on a thread of its own, which never issues
+    Dr.Jit work; returns a function that waits for the entries. ``jit_kernel_history``
+    synchronizes the stream of the thread that calls it (``jitc_sync_thread``, on Dr.Jit's
+    thread-local state, of which that thread has none) before it reads the history's CUDA events:
+    on the thread that issued a frame it would also wait for the work issued after the entries
+    (the frame's development and denoiser, ~1.2 ms on the H200), here it waits for nothing, and it
+    runs while the caller goes on. So it is only for entries known to be complete, with nothing
+    recorded after them (the pipeline starts it once a frame's device passes are done, their counts
+    copied to the host behind them, with the history off since): the time of an entry whose end
+    event the GPU has not reached is not measured (Dr.Jit's ``cuEventElapsedTime`` fails quietly;
+    it would read 0) and the read consumes it. On the LLVM backend a worker's read would not wait
+    for the kernels' tasks either: CUDA only."""
+    global _WORKER
+    read = reader()  # on the calling thread: the first call checks the layout with a kernel of its own
+    if _WORKER is None:
+        _WORKER = ThreadPoolExecutor(max_workers=1, thread_name_prefix="kernel-history")
+    if _API is None:  # drjit.kernel_history: the whole read on the worker
+        return _WORKER.submit(read).result
+    # the worker makes the C call alone (ctypes lets go of Python's lock during it); the entries are
+    # parsed by the caller, so the two threads do not take turns at Python's lock meanwhile
+    fetched = _WORKER.submit(_API[0])
+    return lambda: _parse(_API, fetched.result())
+
+
 def reader() -> Callable[[], list[dict]]:
     """A function that returns the kernel history since it was last read or cleared, and clears
     it (as ``drjit.kernel_history()``): per launch ``backend``, ``type``, ``size`` and
     ``execution_time`` (ms), and for JIT kernels ``hash``, ``operation_count`` and ``uses_optix``,
     without ``ir``. The first call checks the layout (it launches a kernel and clears the history)."""
-    global _READER, READER
+    global _READER, READER, _API
     if _READER is None:
         api = _load()
         if api is not None and _check(api):
-            _READER, READER = (lambda: _read(api)), "C API"
+            _READER, READER, _API = (lambda: _read(api)), "C API", api
         else:
             _READER, READER = dr.kernel_history, "drjit.kernel_history"
     return _READER

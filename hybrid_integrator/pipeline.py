@@ -42,6 +42,7 @@ import functools
 import math
 import time
 import typing
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 
 import drjit as dr
@@ -143,8 +144,10 @@ class HybridSettings:
     frames_in_flight: int = 1
     #: time each stage on the device (Dr.Jit's kernel history: ``FrameStats.times_ms``); off, a
     #: frame without a budget runs and reads no history: its stages are NaN, its ``total`` as
-    #: before, and the frame is 0.19-0.26 ms shorter on the H200 (the history's events around
-    #: every launch, and their readout after the synchronization; docs/results, issue 10, stop 50).
+    #: before, and the frame is shorter on the H200 by what the history costs it (the events
+    #: around every launch, and their readout: since stop 51 while the GPU denoises, where it does,
+    #: ``HybridRenderer._read_ahead``): 0.08-0.20 ms for a hybrid frame, 0.06-0.10 for DR's
+    #: (docs/results/gpu/issue10/stop51; 0.19-0.26 for the hybrid before, stop 50).
     #: A budgeted frame times its stages whatever this says: its cost model learns the trace's time
     stage_times: bool = True
 
@@ -369,12 +372,13 @@ class StageClock:
         """Forget the kernels taken since the last :meth:`frame_times` (a frame whose history is not read)."""
         self._taken = []
 
-    def frame_times(self) -> dict[str, float]:
-        """The device ms per stage of the kernels since the last call (the frame's)."""
+    def frame_times(self, read: Callable[[], list[dict]] | None = None) -> dict[str, float]:
+        """The device ms per stage of the kernels since the last call (the frame's); ``read``: what
+        gives the history's entries (default :attr:`read`; a read started ahead, :meth:`HybridRenderer._read_ahead`)."""
         times = dict.fromkeys(STAGES[1:], 0.0)
         current = STAGES[1]
         self.last = []
-        for stage, entry in self._taken + [(None, e) for e in self.read()]:
+        for stage, entry in self._taken + [(None, e) for e in (read or self.read)()]:
             stage = stage or self.stage_of.get(entry.get("hash"), current)
             current = stage
             times[stage] = times.get(stage, 0.0) + float(entry.get("execution_time", 0.0))
@@ -789,6 +793,13 @@ class HybridRenderer:
             clock.lap("select")
             outputs = [self._device(settings, frame, config, seed, sample, offset, ids[sample], clock)  # 1, 2, 4, 5
                        for sample, offset in enumerate(offsets)]
+            # where the GPU denoises the frame after its device passes, their history is read
+            # meanwhile (_read_ahead), once their counts are on the host: the launches after them
+            # go unrecorded, so that the history is complete then (their stages are the ones timed
+            # but temporal accumulation's, a stage of its own, read after the synchronization)
+            ahead = settings.times_stages and settings.denoise and frame.traces and not settings.temporal
+            if ahead:
+                dr.set_flag(dr.JitFlag.KernelHistory, False)
             copy = self._counts[0] if self._counts else None
             self._counts.reverse()
             if copy:  # the counts to the host as soon as the device passes are done
@@ -802,7 +813,7 @@ class HybridRenderer:
             image = self._post(settings, frame, state, composed, outputs)
             clock.lap("post")
             self._end_frame(settings, frame, state, plan, copy, [o.counts for o in outputs], image, clock,
-                            span, after, seed, next_pose)
+                            span, after, seed, next_pose, ahead)
         layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
         return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images, composed=composed)
@@ -822,7 +833,8 @@ class HybridRenderer:
 
     def _end_frame(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
                    copy: HostCopy | None, counts: list, image: mi.TensorXf, clock: "_HostClock",
-                   span: FrameSpan | None, after: FrameSpan | None, seed: int, next_pose: np.ndarray | None) -> None:
+                   span: FrameSpan | None, after: FrameSpan | None, seed: int, next_pose: np.ndarray | None,
+                   read_ahead: bool = False) -> None:
         """The frame's end, once its work is issued: the image evaluated; what the next frame learns
         from this one's ``counts`` (:meth:`_lesson`; in flight: read by the next frame); the
         visibility targets back to OpenGL and the next frame's raster pass drawn ahead
@@ -840,11 +852,12 @@ class HybridRenderer:
         # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
         # generator) now too, not before the next frame's raster pass: the same numbers
         self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
-        learnt = None
+        learnt = read = None
         if span is None:
             # the counts, then what the next frame learns from them: on the GPU while it develops
             # and denoises this frame (the counts' copy waits for the device passes alone)
             learnt = self._lesson(settings, frame, plan, state, copy, counts, clock)
+            read = self._read_ahead() if read_ahead else None
         elif copy and settings.primary == "raster":  # in flight: learnt from in the next frame
             copy.sync()  # this frame's trace done, before OpenGL gets work again (below)
             clock.lap("sync")
@@ -860,7 +873,7 @@ class HybridRenderer:
         if span is None:
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
-            self._account_times(settings, frame, state, learnt, clock)
+            self._account_times(settings, frame, state, learnt, clock, read)
             frame.stats.times_ms["total"] = clock.elapsed()
         else:  # its times and its lesson once the GPU is done with it
             self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
@@ -1225,12 +1238,29 @@ class HybridRenderer:
             stats.times_ms["gl"] = sum(gl_elapsed_ms(q) for q in frame.queries)
             self._gl_queries.extend(frame.queries)
 
-    def _account_times(self, settings: HybridSettings, frame: _Frame, state: FrameState, learnt, clock: "_HostClock") -> None:
-        """After the frame's synchronization: the device time of its stages, and the cost model
-        taught the trace's time (:meth:`_account`'s ``learnt``)."""
+    def _read_ahead(self) -> Callable[[], list[dict]]:
+        """The kernel history of the frame's device passes, once they are done (their counts on
+        the host) and nothing is recorded after them: on the GPU read on a worker thread
+        (``history.read_ahead``) while the GPU denoises the frame and this thread learns from its
+        counts and issues the next raster pass, not after the synchronization, where the GPU has
+        nothing left to do (docs/results/gpu/issue10/stop51: the history's cost to the RT
+        baseline's frame 0.06-0.18 ms instead of 0.23-0.33; a frame without a denoiser, whose GPU is
+        done with it soon after, reads after the synchronization: the worker's hand-over cost the
+        DR frame ~0.05 ms); on the CPU, whose counts were read with every task done
+        (``inflight.py``), now. Returns what gives the entries."""
+        if self._counts:
+            return history.read_ahead()
+        entries = self.clock.read()
+        return lambda: entries
+
+    def _account_times(self, settings: HybridSettings, frame: _Frame, state: FrameState, learnt, clock: "_HostClock",
+                       read: Callable[[], list[dict]] | None = None) -> None:
+        """After the frame's synchronization: the device time of its stages (the entries ``read``
+        gives, from :meth:`_read_ahead`; else read now), and the cost model taught the trace's
+        time (:meth:`_account`'s ``learnt``)."""
         stats = frame.stats
         if settings.times_stages:
-            stats.times_ms.update(self.clock.frame_times())
+            stats.times_ms.update(self.clock.frame_times(read))
         else:  # no history was kept (``stage_times=False``): nothing to read
             stats.untimed()
         self._timers(frame)

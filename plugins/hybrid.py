@@ -138,11 +138,13 @@ Properties
                  learns from the trace's time); ``stats.in_flight`` says how each frame ran.
 ``stage_times``  true (the default): each frame reports its stages' device times
                  (``stats.times_ms``), from Dr.Jit's kernel history, which records a pair of CUDA
-                 events around every launch and is read after the frame's synchronization.
-                 false: a frame without a budget keeps no history (its stages NaN,
-                 ``stats.stages_timed`` false; ``total``, ``gl`` and ``denoise`` still timed): the
-                 frame as a renderer ships it, 0.19-0.26 ms shorter on the H200 (``bash
-                 docs/results/gpu/issue10/stop50/run.sh cost SCENE…``). A budgeted frame
+                 events around every launch and is read once the frame's device passes are done,
+                 while the GPU denoises the frame (after its synchronization where nothing is
+                 denoised, or with ``temporal``). false: a frame without a budget keeps no history
+                 (its stages NaN, ``stats.stages_timed`` false; ``total``, ``gl`` and ``denoise``
+                 still timed): the frame as a renderer ships it, shorter on the H200 by 0.08-0.20
+                 ms (hybrid), 0.06-0.10 (DR) (``SIDES=new bash
+                 docs/results/gpu/issue10/stop51/run.sh cost SCENE…``). A budgeted frame
                  times its stages regardless: its cost model learns the trace's time.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 

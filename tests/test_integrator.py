@@ -287,6 +287,38 @@ def test_stage_times_off_renders_the_same_frames_without_the_kernel_history():
     assert all(r.stats.stages_timed and r.stats.times_ms["trace"] > 0 for r in budgeted)
 
 
+def test_stage_times_are_read_once_the_device_passes_are_done():
+    """A stage-timed frame reads its stages' times from the kernel history as soon as its counts are
+    in (while the GPU would still develop and denoise it), so nothing launched after its device
+    passes is recorded, and the history is empty after the frame; with temporal accumulation, a
+    stage after the device passes, the history is read after the synchronization, and that stage
+    is timed. ``history.read_ahead`` (the GPU's read, on a worker thread) gives complete entries as
+    ``history.reader`` does."""
+    from hybrid_integrator import history
+    from hybrid_integrator.raster.camera import sensor_to_world
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=64, resy=40)
+    still = [sensor_to_world(scene.sensors()[0])] * 3
+    for props in ({}, {"budget_ms": 50.0}):
+        frames = hi.render_sequence(scene, still, seed=3, layers=False, **props)
+        assert dr.kernel_history() == []  # nothing left unread
+        # the kernels read are the device passes' (their stages marked them when recorded), not the
+        # development's, launched after them
+        clock = hi.api.renderer(scene).clock
+        assert clock.last and all(e.get("hash") in clock.stage_of for _, e in clock.last if e.get("hash"))
+        for f in frames:
+            assert all(f.stats.times_ms[k] > 0 for k in ("raster", "lighting", "trace", "compose", "denoise"))
+            assert f.stats.host_ms["timing"] > 0
+    accumulated = hi.render_sequence(scene, still, seed=3, layers=False, temporal=True)
+    assert all(f.stats.times_ms["temporal"] > 0 and f.stats.times_ms["trace"] > 0 for f in accumulated[1:])
+    with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
+        dr.kernel_history_clear()
+        dr.eval(dr.arange(mi.UInt32, 4099) * 7 + 2)
+        dr.sync_thread()
+        entries = history.read_ahead()()
+    assert len(entries) == 1 and entries[0]["size"] == 4099 and entries[0]["execution_time"] > 0
+
+
 def test_rays_follow_the_candidates():
     """Per-pixel random streams make ray counts additive over disjoint candidate sets, and no pixel
     outside the candidates is traced."""
