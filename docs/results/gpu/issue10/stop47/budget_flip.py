@@ -3,7 +3,8 @@
 budgeted runs from a fresh state: 5 frames of warm-up, then FRAMES), each frame's total time and
 trace time (and every stage's and host phase's median), and FLIP against ``path`` at GT_SPP (the bench's cached ground truth), the mean of the
 last 5 frames' FLIP. One JSON line per scene is appended to OUT; run once per tree (this one, or an
-old one on PYTHONPATH) to compare selections.
+old one on PYTHONPATH) to compare selections, or with ``--selections nested,greedy`` to compare
+selectors in one process (stop 51).
 
     python docs/results/gpu/issue10/stop47/budget_flip.py --variant cuda_ad_rgb --label new -o out.jsonl SCENE.xml -D …
 """
@@ -22,6 +23,9 @@ def main() -> None:
     parser.add_argument("--gt-spp", type=int, default=1024)
     parser.add_argument("--fractions", default="0,0.25,0.5,0.75")
     parser.add_argument("--label", default="")
+    parser.add_argument("--selections", default="nested",
+                        help="selectors to run at each budget (stop 51: nested,greedy); rows of others than nested are "
+                             "keyed 'FRACTION SELECTOR'")
     parser.add_argument("--no-denoise", action="store_true", help="frames without the denoiser")
     parser.add_argument("-D", dest="defines", action="append", default=[])
     parser.add_argument("-o", dest="out", required=True)
@@ -57,7 +61,10 @@ def main() -> None:
         row = {"label": args.label, "scene": name, "hybrid": run(3)}
         trace_all = row["hybrid"]["trace_ms"]
         for fraction in (float(x) for x in args.fractions.split(",")):
-            row[f"{fraction:.0%}"] = {"budget_ms": max(fraction * trace_all, 1e-6), **run(5, budget_ms=max(fraction * trace_all, 1e-6))}
+            for selection in args.selections.split(","):
+                key = f"{fraction:.0%}" + ("" if selection == "nested" else f" {selection}")
+                budget = max(fraction * trace_all, 1e-6)
+                row[key] = {"budget_ms": budget, **run(5, budget_ms=budget, selection=selection)}
         print(json.dumps({k: ({kk: (round(vv, 4) if isinstance(vv, float) else vv) for kk, vv in v.items()
                                if kk not in ("flip_frames", "stages_ms", "host_ms")}
                               if isinstance(v, dict) else v) for k, v in row.items()}), flush=True)
