@@ -146,8 +146,9 @@ class HybridSettings:
     #: frame without a budget runs and reads no history: its stages are NaN, its ``total`` as
     #: before, and the frame is shorter on the H200 by what the history costs it (the events
     #: around every launch, and their readout: since stop 51 while the GPU denoises, where it does,
-    #: ``HybridRenderer._read_ahead``): 0.08-0.20 ms for a hybrid frame, 0.06-0.10 for DR's
-    #: (docs/results/gpu/issue10/stop51; 0.19-0.26 for the hybrid before, stop 50).
+    #: ``HybridRenderer._read_ahead``): within the measurement's noise for a denoised hybrid or RT
+    #: frame (-0.08 to +0.03 ms on two scenes), 0.05-0.10 for DR's (docs/results/gpu/issue10/stop51;
+    #: 0.19-0.26 for the hybrid before, stop 50).
     #: A budgeted frame times its stages whatever this says: its cost model learns the trace's time
     stage_times: bool = True
 
@@ -871,9 +872,12 @@ class HybridRenderer:
         self._draw_ahead(settings, frame, self._next_offsets[frame.stats.spp, seed + 1][0], next_pose)
         clock.lap("ahead")
         if span is None:
+            # the history read ahead, parsed and split by stage while the GPU still denoises
+            stage_ms = self.clock.frame_times(read) if read is not None else None
+            clock.lap("timing")
             dr.sync_thread()  # the frame's one synchronization
             clock.lap("sync")
-            self._account_times(settings, frame, state, learnt, clock, read)
+            self._account_times(settings, frame, state, learnt, clock, stage_ms)
             frame.stats.times_ms["total"] = clock.elapsed()
         else:  # its times and its lesson once the GPU is done with it
             self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
@@ -1243,24 +1247,26 @@ class HybridRenderer:
         the host) and nothing is recorded after them: on the GPU read on a worker thread
         (``history.read_ahead``) while the GPU denoises the frame and this thread learns from its
         counts and issues the next raster pass, not after the synchronization, where the GPU has
-        nothing left to do (docs/results/gpu/issue10/stop51: the history's cost to the RT
-        baseline's frame 0.06-0.18 ms instead of 0.23-0.33; a frame without a denoiser, whose GPU is
-        done with it soon after, reads after the synchronization: the worker's hand-over cost the
-        DR frame ~0.05 ms); on the CPU, whose counts were read with every task done
-        (``inflight.py``), now. Returns what gives the entries."""
+        nothing left to do (docs/results/gpu/issue10/stop51: with the entries also parsed before
+        the synchronization, the stage times cost a denoised frame -0.08 to +0.03 ms on the H200,
+        against +0.14 to +0.22 read after it; a frame without a denoiser, whose GPU is done with it
+        soon after, reads after the synchronization: the worker's hand-over cost the DR frame
+        ~0.05 ms); on the CPU, whose counts were read with every task done (``inflight.py``), now.
+        Returns what gives the entries (parsed by the frame's thread before its synchronization,
+        while the GPU still denoises)."""
         if self._counts:
             return history.read_ahead()
         entries = self.clock.read()
         return lambda: entries
 
     def _account_times(self, settings: HybridSettings, frame: _Frame, state: FrameState, learnt, clock: "_HostClock",
-                       read: Callable[[], list[dict]] | None = None) -> None:
-        """After the frame's synchronization: the device time of its stages (the entries ``read``
-        gives, from :meth:`_read_ahead`; else read now), and the cost model taught the trace's
-        time (:meth:`_account`'s ``learnt``)."""
+                       stage_ms: dict[str, float] | None = None) -> None:
+        """After the frame's synchronization: the device time of its stages (``stage_ms``, from the
+        history read ahead, :meth:`_read_ahead`; else read now), and the cost model taught the
+        trace's time (:meth:`_account`'s ``learnt``)."""
         stats = frame.stats
         if settings.times_stages:
-            stats.times_ms.update(self.clock.frame_times(read))
+            stats.times_ms.update(stage_ms if stage_ms is not None else self.clock.frame_times())
         else:  # no history was kept (``stage_times=False``): nothing to read
             stats.untimed()
         self._timers(frame)

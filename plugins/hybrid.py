@@ -142,9 +142,10 @@ Properties
                  while the GPU denoises the frame (after its synchronization where nothing is
                  denoised, or with ``temporal``). false: a frame without a budget keeps no history
                  (its stages NaN, ``stats.stages_timed`` false; ``total``, ``gl`` and ``denoise``
-                 still timed): the frame as a renderer ships it, shorter on the H200 by 0.08-0.20
-                 ms (hybrid), 0.06-0.10 (DR) (``SIDES=new bash
-                 docs/results/gpu/issue10/stop51/run.sh cost SCENE…``). A budgeted frame
+                 still timed): the frame as a renderer ships it. On the H200 a denoised frame is
+                 about as fast either way (-0.08 to +0.03 ms on two scenes), a DR frame 0.05-0.10
+                 ms faster (``SIDES=new bash docs/results/gpu/issue10/stop51/run.sh cost
+                 SCENE…``). A budgeted frame
                  times its stages regardless: its cost model learns the trace's time.
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 
