@@ -32,7 +32,8 @@ case $mode in
   cost)  # the kernel history's cost, on / off in turn (scripts/history_cost.py), on this tree (new: the
          # stage times read once the device passes are done) and on ac644ec (old: read after the
          # synchronization): this package with ac644ec's two files that differ, carried in .w51
-         # (`git show ac644ec:hybrid_integrator/pipeline.py > .w51/pipeline.py`, history.py alike)
+         # (`git show ac644ec:hybrid_integrator/pipeline.py > .w51/pipeline.py`, history.py alike;
+         # the third run, outputs/cost_parse.txt: 59678f1's, the entries parsed after the synchronization)
     rm -rf /tmp/old && mkdir -p /tmp/old && cp -r hybrid_integrator /tmp/old/ && cp .w51/*.py /tmp/old/hybrid_integrator/ && ln -sfn $PWD/plugins /tmp/old/hybrid_integrator/plugins
     for s in "$@"; do for side in ${SIDES:-new old}; do
       (if [ $side = old ]; then export PYTHONPATH=/tmp/old:$PYTHONPATH; fi
