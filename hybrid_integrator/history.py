@@ -16,6 +16,10 @@ unread, as ``drjit.kernel_history`` does after copying them (0.19-0.36 ms per fr
 It checks the layout once, on a kernel of its own (so it must not be called while a frame's
 history is being kept); where the symbol is missing or the check fails, it gives
 ``drjit.kernel_history`` instead (the same entries, with ``ir``), and :data:`READER` says which.
+
+:func:`read_ahead` makes the same read from a thread that issues no Dr.Jit work, so that it waits
+for nothing (issue 10, stop 51): a denoised frame reads its device passes' history while the GPU
+denoises it, not after its synchronization.
 """
 from __future__ import annotations
 

@@ -108,7 +108,6 @@ _PROPERTY_TYPES = {int: (int, np.integer), float: (int, float, np.integer, np.fl
 _PROPERTY_NAMES = {int: "an integer", float: "a number", bool: "a boolean (true or false)", str: "a string"}
 
 
-
 @functools.lru_cache(maxsize=None)
 def _declared_types(cls) -> dict:
     """A dataclass's fields' declared types, resolved once."""
