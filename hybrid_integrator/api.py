@@ -10,7 +10,7 @@ from .errors import HybridError
 from .objects import scene_objects
 from .pipeline import HybridSettings
 from .primary import camera_rays, primary_hits, resolve_outline, visibility_buffer
-from .raster.camera import RasterCamera, resolve_sensor, transform_matrix
+from .raster.camera import RasterCamera, camera_pose, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
 from .raster.visibility import Rasterizer, resolve_method
 
@@ -130,7 +130,7 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
     params = mi.traverse(sensor)
     original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     results = []
-    matrices = [transform_matrix(camera) for camera in cameras]
+    matrices = [camera_pose(camera) for camera in cameras]  # each a finite, invertible 4×4 transform, before any frame
     try:
         current = None
         for frame, matrix in enumerate(matrices):

@@ -109,15 +109,18 @@ def render_frames(scene: str | Path, cameras, out_dir: str | Path, spp: int = 1,
     import mitsuba as mi
     from tqdm import tqdm
 
-    from .raster.camera import transform_matrix
+    from .pipeline import check_frame_numbers
+    from .raster.camera import camera_pose
 
+    # the numbers and poses checked before anything is written or any worker starts
+    spp, seed = check_frame_numbers(spp, seed)
+    matrices = [camera_pose(c).tolist() for c in cameras]  # each a finite, invertible 4×4 transform
     if workers < 1:
         raise HybridError(f"workers={workers}: give 1 (this process) or more (Ray workers)")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    matrices = [transform_matrix(c).tolist() for c in cameras]
     job = Job(scene=str(scene), params=dict(params or {}), variant=variant or mi.variant(),
-              properties=dict(properties), spp=int(spp), seed=int(seed), out_dir=str(out))
+              properties=dict(properties), spp=spp, seed=seed, out_dir=str(out))
     todo = [k for k in range(len(matrices)) if not frame_done(out, k)]
     bar = tqdm(total=len(matrices), initial=len(matrices) - len(todo), desc="frames", unit="frame")
     if todo and workers == 1:

@@ -108,6 +108,17 @@ _PROPERTY_TYPES = {int: (int, np.integer), float: (int, float, np.integer, np.fl
 _PROPERTY_NAMES = {int: "an integer", float: "a number", bool: "a boolean (true or false)", str: "a string"}
 
 
+def check_frame_numbers(spp, seed) -> tuple[int, int]:
+    """A frame's ``spp`` and ``seed`` as ints, or a :class:`HybridError` naming the one that is not
+    a whole number >= 0 (``2.5`` samples would be truncated, a negative seed fails deep in NumPy's
+    generator, ``True`` is no count)."""
+    for name, value, what in (("spp", spp, "a whole number of samples per pixel >= 1 (0: the scene's sampler's)"),
+                              ("seed", seed, "a whole number >= 0")):
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < 0:
+            raise HybridError(f"{name}={value!r} is impossible: give {what}")
+    return int(spp), int(seed)
+
+
 @functools.lru_cache(maxsize=None)
 def _declared_types(cls) -> dict:
     """A dataclass's fields' declared types, resolved once."""
@@ -771,8 +782,7 @@ class HybridRenderer:
         the GPU to finish it, and its times are read later (``inflight.py``, :meth:`finish`)."""
         state = state if state is not None else FrameState()
         next_pose = None if next_camera is None else camera_pose(next_camera)  # checked before any work
-        if int(spp) < 0:
-            raise HybridError(f"spp={spp} is impossible: give a number of samples per pixel >= 1 (0: the scene's sampler's)")
+        spp, seed = check_frame_numbers(spp, seed)
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, settings.times_stages):
             dr.kernel_history_clear()
             clock = _HostClock()

@@ -167,7 +167,7 @@ import mitsuba as mi
 from hybrid_integrator.environment import require_jit_rgb_variant
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import FrameState
-from hybrid_integrator.pipeline import HybridResult, HybridSettings
+from hybrid_integrator.pipeline import HybridResult, HybridSettings, check_frame_numbers
 
 NAME = "hybrid"
 
@@ -191,10 +191,11 @@ class HybridIntegrator(mi.SamplingIntegrator):
         where known (``hi.render_sequence`` gives it: ``raster_ahead``)."""
         from hybrid_integrator.api import renderer
 
+        spp, seed = check_frame_numbers(spp, seed)
         if not scene.shapes():  # nothing to rasterize or trace: what Mitsuba shows is the background
             self.last_result = _background(scene, self.settings, sensor, seed, spp)
         else:
-            self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=int(seed),
+            self.last_result = renderer(scene).render(self.settings, sensor=sensor, spp=spp, seed=seed,
                                                       aovs=aovs, state=self.state, layers=layers,
                                                       next_camera=next_camera)
         return self.last_result

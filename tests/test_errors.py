@@ -84,6 +84,38 @@ def test_bad_aov_and_offset():
         hi.rasterize(scene, offset=(1.0, 0.5))
 
 
+def test_bad_spp_and_seed():
+    """A frame's spp and seed are whole numbers >= 0: 2.5 samples are not truncated to 2, a negative
+    seed is not left to NumPy's generator to refuse, ``True`` is no count; the background path of
+    a scene without shapes checks them too."""
+    scene = load(DEFAULT_SCENE)
+    for kwargs, message in (({"spp": 2.5}, r"spp=2.5 is impossible"), ({"spp": -1}, r"spp=-1 is impossible"),
+                            ({"spp": True}, r"spp=True is impossible"), ({"spp": "2"}, r"spp='2' is impossible"),
+                            ({"seed": -1}, r"seed=-1 is impossible: give a whole number >= 0"),
+                            ({"seed": 2.5}, r"seed=2.5 is impossible")):
+        with pytest.raises(hi.HybridError, match=message):
+            hi.render(scene, **kwargs)
+    with pytest.raises(hi.HybridError, match=r"seed=-3 is impossible"):
+        hi.render(mi.load_dict({"type": "scene", "sensor": {"type": "perspective"}}), seed=-3)
+    assert hi.render(scene, spp=np.int64(1), seed=np.uint32(4)).stats.spp == 1  # NumPy's integers are whole numbers
+
+
+def test_bad_camera_path(tmp_path):
+    """A camera path's poses are checked before any frame: one that is not a 4×4 transform, or not
+    finite, is a clear error in ``render_sequence`` and in ``render_frames`` (before a worker
+    starts, and nothing written)."""
+    scene = load(DEFAULT_SCENE)
+    nan = np.full((4, 4), np.nan)
+    for cameras, message in (([np.eye(4), None], r"camera pose None is not a 4×4 transform"),
+                             ([np.eye(3)], r"is not a 4×4 transform"),
+                             ([np.eye(4), nan], r"is not a finite, invertible transform")):
+        with pytest.raises(hi.HybridError, match=message):
+            hi.render_sequence(scene, cameras, spp=1)
+    with pytest.raises(hi.HybridError, match=r"is not a finite, invertible transform"):
+        hi.render_frames(DEFAULT_SCENE, [np.eye(4), nan], tmp_path / "frames", spp=1)
+    assert not (tmp_path / "frames").exists()
+
+
 def test_sensor_index_out_of_range():
     with pytest.raises(hi.UnsupportedSceneError, match="sensor index 3 is out of range"):
         hi.rasterize(load(DEFAULT_SCENE), sensor=3)
