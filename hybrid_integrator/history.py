@@ -26,6 +26,7 @@ from __future__ import annotations
 import ctypes
 import itertools
 import math
+import os
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -51,6 +52,16 @@ _SIZE = ctypes.sizeof(_Entry)
 _READER: Callable[[], list[dict]] | None = None
 _API: tuple | None = None  # Dr.Jit's C API functions (``_load``), once checked
 _WORKER: ThreadPoolExecutor | None = None  # the thread of :func:`read_ahead`'s reads
+
+
+def _forget_worker() -> None:
+    """In a forked child the worker's thread is gone (fork copies the calling thread alone) while its
+    executor would still count it, and wait for it forever: a new one is made on first use."""
+    global _WORKER
+    _WORKER = None
+
+
+os.register_at_fork(after_in_child=_forget_worker)
 #: "C API" or "drjit.kernel_history" (a fallback: the symbol is missing or its layout check failed)
 READER = "drjit.kernel_history"
 
