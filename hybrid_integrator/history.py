@@ -89,10 +89,6 @@ def _entries(data) -> Iterator[_Entry]:
         yield entry
 
 
-def _read(api: tuple) -> list[dict]:
-    return _parse(api, api[0]())
-
-
 def _parse(api: tuple, data) -> list[dict]:
     """The entries of what ``jit_kernel_history`` returned, freed."""
     free = api[1]
@@ -170,7 +166,7 @@ def reader() -> Callable[[], list[dict]]:
     if _READER is None:
         api = _load()
         if api is not None and _check(api):
-            _READER, READER, _API = (lambda: _read(api)), "C API", api
+            _READER, READER, _API = (lambda: _parse(api, api[0]())), "C API", api
         else:
             _READER, READER = dr.kernel_history, "drjit.kernel_history"
     return _READER

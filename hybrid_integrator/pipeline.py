@@ -1260,13 +1260,10 @@ class HybridRenderer:
         the synchronization, the stage times cost a denoised frame -0.08 to +0.03 ms on the H200,
         against +0.14 to +0.22 read after it; a frame without a denoiser, whose GPU is done with it
         soon after, reads after the synchronization: the worker's hand-over cost the DR frame
-        ~0.05 ms); on the CPU, whose counts were read with every task done (``inflight.py``), now.
-        Returns what gives the entries (parsed by the frame's thread before its synchronization,
-        while the GPU still denoises)."""
-        if self._counts:
-            return history.read_ahead()
-        entries = self.clock.read()
-        return lambda: entries
+        ~0.05 ms); on the CPU, whose counts were read with every task done (``inflight.py``), the
+        usual reader. Returns what gives the entries (called by the frame's thread before its
+        synchronization, while the GPU still denoises)."""
+        return history.read_ahead() if self._counts else self.clock.read
 
     def _account_times(self, settings: HybridSettings, frame: _Frame, state: FrameState, learnt, clock: "_HostClock",
                        stage_ms: dict[str, float] | None = None) -> None:

@@ -167,7 +167,7 @@ import mitsuba as mi
 from hybrid_integrator.environment import require_jit_rgb_variant
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import FrameState
-from hybrid_integrator.pipeline import HybridResult, HybridSettings, check_frame_numbers
+from hybrid_integrator.pipeline import HybridResult, HybridSettings
 
 NAME = "hybrid"
 
@@ -191,7 +191,6 @@ class HybridIntegrator(mi.SamplingIntegrator):
         where known (``hi.render_sequence`` gives it: ``raster_ahead``)."""
         from hybrid_integrator.api import renderer
 
-        spp, seed = check_frame_numbers(spp, seed)
         if not scene.shapes():  # nothing to rasterize or trace: what Mitsuba shows is the background
             self.last_result = _background(scene, self.settings, sensor, seed, spp)
         else:
@@ -225,9 +224,10 @@ def _background(scene: mi.Scene, settings: HybridSettings, sensor, seed: int, sp
     render of it (the environment, or black), recorded as a fallback in the frame's statistics."""
     import time
 
-    from hybrid_integrator.pipeline import FrameStats
+    from hybrid_integrator.pipeline import FrameStats, check_frame_numbers
     from hybrid_integrator.raster.camera import resolve_sensor
 
+    spp, seed = check_frame_numbers(spp, seed)  # (the hybrid's frames check them in HybridRenderer.render)
     sensor = resolve_sensor(scene, sensor)
     integrator = mi.load_dict({"type": "path", "max_depth": settings.max_depth, "hide_emitters": settings.hide_emitters})
     start = time.perf_counter()

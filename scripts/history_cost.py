@@ -2,8 +2,9 @@
 
 A frame of ``HybridRenderer.render`` reads its stages' device times (``FrameStats.times_ms``) from
 Dr.Jit's kernel history (``JitFlag.KernelHistory``): on the CUDA backend a pair of CUDA events
-around every kernel and reduction of the frozen replay, read back after the frame's
-synchronization (``StageClock.frame_times``, through Dr.Jit's C API: ``history.py``; in
+around every kernel and reduction of the frozen replay, read back by the frame (``StageClock.frame_times``,
+through Dr.Jit's C API: ``history.py``; since issue 10's stop 51 a denoised frame's while the GPU
+denoises it, ``HybridRenderer._read_ahead``; in
 ``times_ms["total"]`` since issue 10's stop 48). With ``stage_times=False`` (issue 10, stop 50) a
 frame without a budget keeps no history. This probe renders each kind of frame (1 spp) with the
 stage times on and off, in turn, through one renderer, and prints the median wall time of a frame
