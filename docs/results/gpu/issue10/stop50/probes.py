@@ -34,15 +34,17 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[5]))
 
 
-def rivals(scene, rounds: int) -> dict[str, list[float]]:
-    """Wall ms per frame of each side of ``rivals`` (module docstring), ``rounds`` rounds in turn."""
+def rivals(scene, rounds: int, properties: dict | None = None) -> dict[str, list[float]]:
+    """Wall ms per frame of each side of ``rivals`` (module docstring), ``rounds`` rounds in turn;
+    ``properties``: the hybrid's integrator properties beside ``stage_times`` (since stop 52:
+    ``--property effects=…``)."""
     import drjit as dr
     import mitsuba as mi
 
     from hybrid_integrator.api import _integrator
     from hybrid_integrator.compare import path_denoised_renders, path_renders
 
-    hybrids = {on: _integrator({"stage_times": on}) for on in (False, True)}
+    hybrids = {on: _integrator({**(properties or {}), "stage_times": on}) for on in (False, True)}
     path_1spp = path_renders(scene, scene.sensors()[0], [mi.load_dict({"type": "path"})], 1, frozen=True)
     sides = {"hybrid": lambda seed: hybrids[False].render_result(scene, seed=seed, spp=1, layers=False).image,
              "hybrid, stage times": lambda seed: hybrids[True].render_result(scene, seed=seed, spp=1, layers=False).image,
@@ -82,6 +84,19 @@ def inflight(scene, frames: int) -> dict[str, dict[str, list[float]]]:
     return out
 
 
+def _property(text: str) -> tuple[str, object]:
+    """``NAME=VALUE`` as a Mitsuba property: a boolean, an integer, a float or the text itself."""
+    name, value = text.split("=", 1)
+    if value.lower() in ("true", "false"):
+        return name, value.lower() == "true"
+    for kind in (int, float):
+        try:
+            return name, kind(value)
+        except ValueError:
+            pass
+    return name, value
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("probe", choices=("rivals", "inflight"))
@@ -90,6 +105,9 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=30, help="rivals: measured rounds, after three of warm-up")
     parser.add_argument("--frames", type=int, default=40, help="inflight: measured frames per side")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
+    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE",
+                        help="rivals: a property of the hybrid's frames (true / false, a number or text), e.g. "
+                             "effects=shadow,reflection,refraction or denoise=false")
     args = parser.parse_args()
 
     import mitsuba as mi
@@ -98,16 +116,17 @@ def main() -> None:
     from hybrid_integrator.bench import load_bench_scene
 
     defines = dict(d.split("=", 1) for d in args.defines)
+    properties = dict(_property(p) for p in args.properties)
     if args.probe == "rivals":
         print(f"{args.variant}: median wall ms per frame, {args.rounds} rounds in turn; rival / hybrid "
-              "(stage_times=false): median [quartiles] of the rounds' ratios")
+              f"(stage_times=false, {properties or 'the default properties'}): median [quartiles] of the rounds' ratios")
     else:
         print(f"{args.variant}: frames in flight, median times_ms['total'] (device span), {args.frames} frames per "
               "side, turns of five frames (four measured)")
     for path in args.scenes:
         scene, _ = load_bench_scene(str(path), defines)
         if args.probe == "rivals":
-            times = rivals(scene, args.rounds)
+            times = rivals(scene, args.rounds, properties)
             base = np.asarray(times["hybrid"])
             for name, t in times.items():
                 q25, q50, q75 = np.percentile(np.asarray(t) / base, [25, 50, 75])
