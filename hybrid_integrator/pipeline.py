@@ -186,9 +186,9 @@ class HybridSettings:
         # traversal of a dataclass resolves it in place: both are seen)
         for name, declared in _declared_types(type(self)).items():
             accepted = _PROPERTY_TYPES.get(declared)
-            value = getattr(self, name)
             if accepted is None:
                 continue
+            value = getattr(self, name)
             if not isinstance(value, accepted) or (declared is not bool and isinstance(value, (bool, np.bool_))):
                 raise HybridError(f"{name}={value!r} must be {_PROPERTY_NAMES[declared]} (got {type(value).__name__})")
             object.__setattr__(self, name, declared(value))
@@ -720,6 +720,11 @@ class _Frame:
     queries: list = field(default_factory=list)  # the GL timer queries of its passes' draws
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
 
+    def denoised(self, settings: HybridSettings) -> bool:
+        """Whether the frame is denoised after its device passes: with ``denoise``, where it traces
+        something (the raster layer alone has no noise to remove)."""
+        return settings.denoise and self.traces
+
 
 def _normalized(block: mi.TensorXf, first: int) -> mi.TensorXf:
     """Three channels of a splatted block from ``first`` on, divided by the block's weight (its
@@ -807,7 +812,7 @@ class HybridRenderer:
             # meanwhile (_read_ahead), once their counts are on the host: the launches after them
             # go unrecorded, so that the history is complete then (their stages are the ones timed
             # but temporal accumulation's, a stage of its own, read after the synchronization)
-            ahead = settings.times_stages and settings.denoise and frame.traces and not settings.temporal
+            ahead = settings.times_stages and frame.denoised(settings) and not settings.temporal
             if ahead:
                 dr.set_flag(dr.JitFlag.KernelHistory, False)
             copy = self._counts[0] if self._counts else None
@@ -968,7 +973,7 @@ class HybridRenderer:
             rgb, state.history = accumulate(rgb, film, outputs[0].surface, frame.camera, state.history)
         else:
             state.history = None
-        if settings.denoise and frame.traces:  # a frame that traces nothing has no noise to remove
+        if frame.denoised(settings):
             sums = sum_tensors([o.guides for o in outputs])
             guide = [_normalized(sums, k) for k in (0, 3)]
             if settings.denoise_quality not in self._denoisers:

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[5]))
+from hybrid_integrator.cli import _define  # NAME=VALUE, or argparse's error  # noqa: E402
 
 
 def rivals(scene, rounds: int, properties: dict | None = None) -> dict[str, list[float]]:
@@ -84,17 +85,16 @@ def inflight(scene, frames: int) -> dict[str, dict[str, list[float]]]:
     return out
 
 
-def _property(text: str) -> tuple[str, object]:
-    """``NAME=VALUE`` as a Mitsuba property: a boolean, an integer, a float or the text itself."""
-    name, value = text.split("=", 1)
+def _typed(value: str) -> object:
+    """A ``--property`` value as a Mitsuba property's: a boolean, an integer, a float or the text itself."""
     if value.lower() in ("true", "false"):
-        return name, value.lower() == "true"
+        return value.lower() == "true"
     for kind in (int, float):
         try:
-            return name, kind(value)
+            return kind(value)
         except ValueError:
             pass
-    return name, value
+    return value
 
 
 def main() -> None:
@@ -105,7 +105,7 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=30, help="rivals: measured rounds, after three of warm-up")
     parser.add_argument("--frames", type=int, default=40, help="inflight: measured frames per side")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
-    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE",
+    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE", type=_define,
                         help="rivals: a property of the hybrid's frames (true / false, a number or text), e.g. "
                              "effects=shadow,reflection,refraction or denoise=false")
     args = parser.parse_args()
@@ -116,7 +116,7 @@ def main() -> None:
     from hybrid_integrator.bench import load_bench_scene
 
     defines = dict(d.split("=", 1) for d in args.defines)
-    properties = dict(_property(p) for p in args.properties)
+    properties = {name: _typed(value) for name, value in args.properties}
     if args.probe == "rivals":
         print(f"{args.variant}: median wall ms per frame, {args.rounds} rounds in turn; rival / hybrid "
               f"(stage_times=false, {properties or 'the default properties'}): median [quartiles] of the rounds' ratios")
