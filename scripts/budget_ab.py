@@ -1,10 +1,11 @@
 """The budget path of ``budget_benchmark.py``, reduced to what an A/B of two versions needs.
 
-On the 226-object camera path: the RT baseline, every candidate traced, then greedy at
-``--fraction`` (default 50 %) of the all-candidates trace time; prints each run's median frame and
-trace time, the fraction of budgeted frames within budget + 10 %, the median pixels and secondary
-rays traced, how the budgeted frames' rays compare with their plans' (median ratio, frames over
-1.5×), the median host time by phase, and RT baseline / budgeted frame. Run it
+On the 226-object camera path: the RT baseline, every candidate traced, then ``--selection``
+(default greedy) at each of ``--fractions`` (default 50 %) of the all-candidates trace time; prints
+each run's median frame and trace time, the fraction of budgeted frames within budget + 10 %, the
+relevance captured (mean), the median pixels and secondary rays traced, how the budgeted frames'
+rays compare with their plans' (median ratio, frames over 1.5×), the median host time by phase,
+and RT baseline / budgeted frame. Run it
 from each version's checkout in turn, several times, alternating (hosts of the lent GPU machines
 drift by ~1 ms per frame between processes):
 
@@ -26,7 +27,9 @@ def main() -> None:
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--label", default="")
     parser.add_argument("--frames", type=int, default=50)
-    parser.add_argument("--fraction", type=float, default=0.5, help="the budget, of the all-candidates trace time")
+    parser.add_argument("--fractions", type=float, nargs="+", default=[0.5],
+                        help="the budgets, of the all-candidates trace time")
+    parser.add_argument("--selection", default="greedy", help="the selector (the integrator's default: nested)")
     parser.add_argument("--resx", type=int, help="default: 1280 on CUDA, 320 on the CPU")
     parser.add_argument("--resy", type=int, help="default: 720 on CUDA, 180 on the CPU")
     args = parser.parse_args()
@@ -43,23 +46,26 @@ def main() -> None:
     run(hi, scene, cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
     run(hi, scene, cameras[:2], primary="raytrace")
     runs = {"RT": run(hi, scene, cameras, primary="raytrace"), "all": run(hi, scene, cameras)}
-    budget = args.fraction * statistics.median(f["trace_ms"] for f in runs["all"])
-    budgeted = f"{args.fraction:.0%}"
-    runs[budgeted] = run(hi, scene, cameras, budget_ms=budget, selection="greedy")
+    trace_all = statistics.median(f["trace_ms"] for f in runs["all"])
+    budgets = {f"{fraction:.0%}": fraction * trace_all for fraction in args.fractions}
+    for budgeted, budget in budgets.items():
+        runs[budgeted] = run(hi, scene, cameras, budget_ms=budget, selection=args.selection)
     medians = {}
     for name, frames in runs.items():
-        s = summary(frames, budget if name == budgeted else 0.0)  # a budgeted run after its probes
+        budget = budgets.get(name, 0.0)
+        s = summary(frames, budget)  # a budgeted run after its probes
         medians[name] = s["median_frame_ms"]
-        within = s["within_budget_plus_10"] if name == budgeted else float("nan")
-        measured = frames[PROBES:] if name == budgeted else frames
+        within = s["within_budget_plus_10"] if budget else float("nan")
+        measured = frames[PROBES:] if budget else frames
         host = {k: round(statistics.median(f["host_ms"][k] for f in measured), 2) for k in measured[0]["host_ms"]}
         traced = {k: int(statistics.median(f[k] for f in measured)) for k in ("pixels_traced", "secondary_rays")}
-        rays = rays_predicted(measured) if name == budgeted else {}
+        rays = rays_predicted(measured) if budget else {}
         rays = (f" rays/predicted {rays['median_rays_over_predicted']:.2f}, over 1.5x {rays['frames_rays_over_1_5']:.2f}"
                 if rays else "")
         print(f"{args.label} {name:4s} frame {medians[name]:.3f} trace {s['median_trace_ms']:.3f} within {within:.2f}"
-              f"{rays} {traced} host {host}")
-    print(f"{args.label} RT/{budgeted} = {medians['RT'] / medians[budgeted]:.3f}  budget {budget:.2f} ms")
+              f" relevance {s['mean_relevance_captured']:.3f}{rays} {traced} host {host}")
+    for budgeted, budget in budgets.items():
+        print(f"{args.label} RT/{budgeted} = {medians['RT'] / medians[budgeted]:.3f}  budget {budget:.2f} ms ({args.selection})")
 
 
 if __name__ == "__main__":
