@@ -8,7 +8,7 @@ backend's clock: ``kernel_history``) to a window of
 the last ``window`` observations, which smooths it across frames, and the model is refitted by
 non-negative least squares (``scipy.optimize.nnls``) before its next prediction (a frame learns its
 trace's time after its synchronization; the refit waits for the next plan, which is made while the
-GPU denoises the next frame). Successive passes trace similar mixes of
+GPU traces or denoises the next frame). Successive passes trace similar mixes of
 rays, so the per-kind rates are nearly collinear; each is therefore pulled towards the pooled rate
 (one rate for every ray, fitted first) with the weight of one observation, and only moves away from
 it as far as the data show a difference. A prediction is made before tracing, from the rays each
@@ -145,7 +145,7 @@ class CostModel:
         # the window's length: firmly while there are few observations, hardly once it is full
         # (the median of each kind's traced passes; the statistics module's median and quantile,
         # cheaper than numpy's on 48 values: the fit runs once a frame, on the host while the GPU
-        # denoises; scripts/cost_model_fit.py times it)
+        # traces; scripts/cost_model_fit.py times it)
         weight = np.array([statistics.median(column[column > 0].tolist()) for column in rays[:, seen].T]) / len(ms)
         prior = np.hstack([np.diag(weight), np.zeros((len(seen), 1))])
         solution, _ = nnls(np.vstack([np.hstack([rays[:, seen], ones]), prior]), np.r_[ms, weight * pooled])
@@ -204,10 +204,11 @@ class FrameState:
     ambient: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
     #: per object, the learnt indirect irradiance that its shadow tier adds (lighting.py), RGB
     indirect: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
-    #: the next frame's plan, made at the end of this one (``pipeline.HybridRenderer._select``),
-    #: as (what it was made for: the frame's set-up key and spp; the coverage it was made from;
-    #: the ``FramePlan``)
+    #: the next frame's plan, made ahead in this one (``pipeline.HybridRenderer._plan_ahead``, ``_account``),
+    #: as (what it was made for: the frame's set-up key, spp and number, ``frames``; the ``FramePlan``)
     next_plan: tuple | None = None
+    #: the frames that have learnt from their counts into this state
+    frames: int = 0
 
     @property
     def error_per_pixel(self) -> np.ndarray:

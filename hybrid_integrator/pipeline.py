@@ -13,8 +13,11 @@ the raster's few refined pixels find their hits in stage 4's launch, so the devi
 stages 1, 3, 4, 2, 5: :func:`refined_lanes`.) The backend is synchronized once per frame, at
 its end. The frame's few counts (one small array per pass) are read back before that: on the GPU
 they are copied to the host behind the device passes (``interop.HostCopy``, a CUDA event), and the
-host learns from them (selection, coverage, errors, ambient light) while the GPU still develops
-and denoises the frame, instead of after it (1.1 ms of denoiser against ~0.5 ms of learning).
+host learns from them (coverage, errors, ambient light) while the GPU still develops and denoises
+the frame, instead of after it. With a still camera, a budget's plan for the next frame is made
+earlier still, while the GPU traces, from the coverage this frame was planned from
+(:meth:`HybridRenderer._plan_ahead`): on the H200 the host's work once the counts are in is longer
+than the 1.1 ms denoiser, so the frame waits for any more of it.
 
 Each sample pass rasterizes the whole frame at one sub-pixel offset (a scrambled Halton sequence,
 one point per pass), so all pixels of a pass share the offset, and ``spp`` passes give
@@ -772,6 +775,7 @@ class HybridRenderer:
         self._counts = [HostCopy(), HostCopy()] if mi.variant().startswith("cuda") else []
         #: the sub-pixel offsets of the next seed, made while the GPU traced the last frame
         self._next_offsets: dict[tuple[int, int], list[tuple[float, float]]] = {}
+        self._plan_ms = 0.0  # the host time of the last budget plan (:meth:`_plan`, :meth:`_plan_ahead`)
         #: the last frame, while it is in flight (``frames_in_flight=2``: inflight.py), and the
         #: device time spans of frames no longer in flight, for reuse
         self._in_flight: InFlight | None = None
@@ -861,12 +865,14 @@ class HybridRenderer:
         if span is not None:
             span.stop()
         # the cost model refitted to the last frame's trace (observed after its synchronization)
-        # now, while the GPU traces this frame, not in the plan made ahead below, where the host
-        # would keep the GPU waiting once it has denoised (the same fit: nothing is observed between)
+        # now, while the GPU traces this frame, not before the next frame's plan (made below with a
+        # still camera, else once the counts are in, where the frame would wait for the refit)
         state.cost_model.current()
         # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
         # generator) now too, not before the next frame's raster pass: the same numbers
         self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
+        # and, with a still camera, the next frame's plan, while the GPU traces this one (:meth:`_plan_ahead`)
+        self._plan_ahead(settings, frame, state, plan, next_pose)
         learnt = read = None
         if span is None:
             # the counts, then what the next frame learns from them: on the GPU while it develops
@@ -989,10 +995,11 @@ class HybridRenderer:
         """Stage 3 on the host (§4): every visible candidate without a budget; with one, the plan
         of ``budget.plan_frame`` from the last frame's coverage (measured first, with nothing
         traced, if this frame is the first of its size). Once the cost model is calibrated, the
-        last frame made that plan already while its GPU denoised (:meth:`_account`), with the cost
-        model as it stood before the last trace's time was known (one observation of up to 48
-        behind); it is used if this frame's settings are the same and the last trace took no
-        longer than the model predicted (:meth:`_account_times`). Returns
+        last frame made that plan already, once its counts were in (:meth:`_account`) or, with a
+        still camera, while its GPU traced (:meth:`_plan_ahead`), with the cost model as it stood
+        before the last trace's time was known (one observation of up to 48 behind); it is used if
+        this frame's settings are the same and the last trace took no longer than the model
+        predicted (:meth:`_account_times`). Returns
         the plan and each object's effect set for the device pass."""
         if settings.budget_ms <= 0:
             frame.traces = bool((frame.candidate_config >= 0).any())
@@ -1004,9 +1011,8 @@ class HybridRenderer:
             cov = self._coverage(frame, PassCounts.read(np.array(probe.counts), len(self.objects)))
             self.clock.frame_times()  # not this frame's work
         ahead, state.next_plan = state.next_plan, None
-        made_for = (frame.setup, frame.stats.spp)
-        plan = ahead[2] if ahead is not None and ahead[0] == made_for and ahead[1] is cov else \
-            self._plan(settings, frame, state, cov)
+        made_for = (frame.setup, frame.stats.spp, state.frames)
+        plan = ahead[1] if ahead is not None and ahead[0] == made_for else self._plan(settings, frame, state, cov)
         config = np.full(len(self.objects), -1, dtype=np.int32)
         c = plan.candidates
         tier, whole = (c.index[plan.picked][mask] for mask in (c.tier[plan.picked], ~c.tier[plan.picked]))
@@ -1016,12 +1022,48 @@ class HybridRenderer:
         frame.traces = bool((config >= 0).any())
         return plan, device_array(mi.Int32, config)
 
-    def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage) -> FramePlan:
-        """Eq. 1–3 from a coverage, then the selection within the budget."""
+    def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage,
+              selected: set[int] | None = None) -> FramePlan:
+        """Eq. 1–3 from a coverage, then the selection within the budget, for a frame after one that
+        selected ``selected`` (default: the state's)."""
+        start = time.perf_counter()
         growth = state.growth if cov is state.coverage else None  # the growth that led to ``cov``
-        c = candidates(cov, frame.active, state.selected, settings.importance, state.rays_per_pixel,
-                       self._errors(settings, state), frame.tiers, growth)
-        return plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
+        c = candidates(cov, frame.active, state.selected if selected is None else selected, settings.importance,
+                       state.rays_per_pixel, self._errors(settings, state), frame.tiers, growth)
+        plan = plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
+        self._plan_ms = (time.perf_counter() - start) * 1e3
+        return plan
+
+    def _plan_ahead(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
+                    next_pose: np.ndarray | None) -> None:
+        """With a still camera and a trace long enough, the next frame's plan, made while the GPU
+        traces this frame: from the coverage this frame's plan was made from (the last frame's: the
+        same view, at another sub-pixel offset), what was learnt until the last frame, and this
+        frame's selection (S of eq. 3). So the host plans where it waits for the trace anyway, not
+        once this frame's counts are on the host, where the frame waits for it: on the H200 the
+        host's work there (learning, planning, the next raster pass) takes longer than the 1.1 ms
+        denoiser, and host work added there was 0.5-1.4 times in the frame, hidden where added while
+        the GPU traced (docs/results/gpu/issue10/stop53: frames 0.40-0.69 ms shorter so on the
+        showcase, Sponza and the dining room, in turn in one process). A moving camera plans once the counts are in
+        (:meth:`_account`): planned from the coverage before the last, its frames on the 226
+        objects' camera path captured 6-13 % less relevance, for 0.4-0.8 ms less per frame
+        (stop 53). The next frame uses the plan if its settings are the same and this frame's
+        trace took no longer than the model predicted (:meth:`_account_times`)."""
+        cov = state.coverage
+        if (plan is None or not state.cost_model.calibrated or not isinstance(cov, Coverage)
+                or (cov.width, cov.height) != (frame.camera.width, frame.camera.height)):
+            return
+        last = self._cameras.get(frame.setup)  # the last frame's camera (``_draw_ahead`` keeps it)
+        still = last is not None and last.draws_as(frame.camera) and (
+            next_pose is None or frame.camera.at(next_pose).draws_as(frame.camera))
+        # and where the trace leaves the host the time to plan: a trace predicted to take less than
+        # twice the last plan's host time is over before the plan, whose time then delays the
+        # frame's end either way, and the next raster pass's issue with it (a trace of the
+        # Armadillo's floor alone, 0.55 ms: frames 0.13-0.21 ms longer so, stop 53)
+        long = state.cost_model.predict(plan.rays) * frame.stats.spp >= 2.0 * self._plan_ms
+        if still and long:
+            state.next_plan = ((frame.setup, frame.stats.spp, state.frames + 1),
+                               self._plan(settings, frame, state, cov, selected=plan.traced))
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
               clock: "_HostClock | None" = None) -> PassOutput:
@@ -1213,10 +1255,12 @@ class HybridRenderer:
         state.selected = set(planned)
         state.growth = pixel_growth(state.coverage, cov)
         state.coverage = cov
+        state.frames += 1
         # the next frame's plan from what this one taught, while the GPU still denoises it (once the
-        # cost model has passed its probe frames, whose sizes follow its observations one by one)
-        if plan is not None and state.cost_model.calibrated:
-            state.next_plan = ((frame.setup, frame.stats.spp), cov, self._plan(settings, frame, state, cov))
+        # cost model has passed its probe frames, whose sizes follow its observations one by one),
+        # unless a still camera's was made already (:meth:`_plan_ahead`)
+        if plan is not None and state.cost_model.calibrated and state.next_plan is None:
+            state.next_plan = ((frame.setup, frame.stats.spp, state.frames), self._plan(settings, frame, state, cov))
         clock.lap("readback")
         return learnt
 
@@ -1285,8 +1329,8 @@ class HybridRenderer:
             stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")
         if learnt is not None:
-            # the refit waits for the next prediction: the next frame's plan, made ahead in this
-            # one's _account (while the GPU denoises), or in its _select if that plan is dropped here
+            # the refit waits for the next prediction: the next frame's plan, made ahead (_plan_ahead,
+            # _account), or in its _select if that plan is dropped here
             per_object, passes, expected = learnt
             state.cost_model.observe(dict(zip(RAY_KINDS, per_object.sum(axis=0) / passes)),
                                      stats.times_ms["trace"] / passes, expected=expected, fit=False)

@@ -12,7 +12,7 @@ import pytest
 import hybrid_integrator as hi
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import CostModel, plan_frame
-from hybrid_integrator.raster.camera import sensor_to_world
+from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
 from hybrid_integrator.heuristic import BLOCKS, KINDS, SPREAD, Candidates, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
@@ -260,9 +260,9 @@ class _SteadyMargin(CostModel):
 
 
 def test_calibrated_budget_plans_the_next_frame_ahead():
-    """Once the cost model is calibrated, a budgeted frame plans the next one at its end (while the
-    GPU denoises): the next frame's selection spends no planning of its own, unless its settings
-    changed."""
+    """Once the cost model is calibrated, a budgeted frame of a still camera plans the next one
+    while the GPU traces it (before its counts are read): the next frame's selection spends no
+    planning of its own, unless its settings changed."""
     scene = load(DEFAULT_SCENE)
     integrator = hi.api._integrator({"budget_ms": 1000.0, "denoise": False})
     # a model whose margin stays at its largest: a trace's noise on this shared CPU then never
@@ -273,14 +273,15 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
         integrator.render_result(scene, seed=seed, spp=1, layers=False)
     renderer = hi.api.renderer(scene)
     callers = []  # which method asked for a plan
-    renderer._plan = lambda *a: (callers.append(sys._getframe(1).f_code.co_name), type(renderer)._plan(renderer, *a))[1]
+    renderer._plan = lambda *a, **k: (callers.append(sys._getframe(1).f_code.co_name),
+                                      type(renderer)._plan(renderer, *a, **k))[1]
     try:
         frame = integrator.render_result(scene, seed=5, spp=1, layers=False)
-        assert callers == ["_account"], callers  # its own plan was made ahead; it made the next one
+        assert callers == ["_plan_ahead"], callers  # its own plan was made ahead; it made the next one
         assert frame.stats.selected and frame.stats.budget_met
         callers.clear()
         integrator.render_result(scene, seed=6, spp=2, layers=False)  # planned ahead for 1 spp: not used
-        assert callers == ["_select", "_account"], callers
+        assert callers == ["_select", "_plan_ahead"], callers
         # a trace slower than the model predicted (a model that expects it to cost nothing): the
         # plan made ahead by that model is dropped, and the next frame plans again, with the model
         # refitted to that trace
@@ -292,9 +293,43 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
         callers.clear()
         integrator.render_result(scene, seed=8, spp=1, layers=False)
         assert callers[0] == "_select", callers
-        assert model.launch_ms > 1e-6  # refitted before that plan
+        # refitted before that plan: rates again (the fixed part may be fitted as 0 by the
+        # non-negative least squares, as it was in 3 of 5 runs of this CPU, alone: no sign of a refit)
+        assert sum(model.rates.values()) > 0
     finally:
         del renderer._plan
+
+
+def test_moving_camera_plans_the_next_frame_from_its_own_coverage():
+    """A budgeted frame of a moving camera plans the next one once its counts are in (from its own
+    coverage: the last frame's view is not the next one's), a still camera's while its GPU traces
+    (from the coverage it was planned from: the same view); either way the next frame uses that
+    plan and makes none of its own."""
+    scene = load(DEFAULT_SCENE)
+    integrator = hi.api._integrator({"budget_ms": 1000.0, "denoise": False})
+    integrator.state.cost_model = _SteadyMargin()
+    cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 9)
+    params = mi.traverse(scene.sensors()[0])
+    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
+    renderer = hi.api.renderer(scene)
+    callers = []  # which method asked for a plan, per frame
+    renderer._plan = lambda *a, **k: (callers[-1].append(sys._getframe(1).f_code.co_name),
+                                      type(renderer)._plan(renderer, *a, **k))[1]
+    try:
+        for k, camera in enumerate(cameras + [cameras[-1]] * 3):  # the path, then standing still
+            params["to_world"] = camera
+            params.update()
+            upcoming = cameras[k + 1] if k + 1 < len(cameras) else cameras[-1]
+            callers.append([])
+            integrator.render_result(scene, seed=k, spp=1, layers=False, next_camera=upcoming)
+    finally:
+        del renderer._plan
+        params["to_world"] = original
+        params.update()
+    # frames 0-2 probe the machine; the path's frames after them plan the next one from their counts
+    assert callers[4:8] == [["_account"]] * 4, callers
+    # at the path's end the camera stands still (the frame before drew from the same camera): ahead
+    assert callers[-1] == ["_plan_ahead"], callers
 
 
 def test_cost_model_learns_its_fixed_part_from_a_trace_of_nothing():
