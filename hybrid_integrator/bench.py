@@ -158,7 +158,7 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
 
 
 def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
-                   warmup: int = 3, before=None, block: int = 1) -> dict[str, list[dict]]:
+                   warmup: int = 3, before=None, block: int = 1, cameras=None) -> dict[str, list[dict]]:
     """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
     rendering ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for all in round k; the
     order rotates from round to round, so that none always follows another); ``before(name)``, if
@@ -169,24 +169,62 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     not measured: with ``frames_in_flight=2`` it starts while the GPU still runs the other side's
     last frame (and the hybrid's raster pass drawn ahead for a frame of its own that does not come
     next); ``frames`` measured frames per side, in rounds of ``block`` − 1 (the last round may
-    measure fewer). ``warmup`` rounds are not measured."""
+    measure fewer). ``warmup`` rounds are not measured.
+
+    ``cameras``: a camera path (``api.camera_path``), one pose per round, warm-up rounds included:
+    every side renders round k from pose k, told the next round's pose (as ``api.render_sequence``
+    tells a frame: the raster pass drawn ahead); the sensor's own pose is restored after. Without
+    it, the sensor's pose throughout."""
     from .api import _integrator, finish
+    from .raster.camera import camera_pose, transform_matrix
 
     integrators = {name: _integrator(dict(props)) for name, props in sides.items()}
     times: dict[str, list[dict]] = {name: [] for name in sides}
     order = list(sides)
     per_round = max(block - 1, 1)
-    for k in range(warmup + -(-frames // per_round)):
-        for name in order:
-            for j in range(block):
-                if before is not None:
-                    before(name)
-                result = integrators[name].render_result(scene, seed=seed + k * block + j, spp=spp, layers=False)
-                if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
-                    times[name].append(result.stats.times_ms)
-        order = order[1:] + order[:1]
-    finish(scene)  # the last frame's times, with frames_in_flight=2
+    rounds = warmup + -(-frames // per_round)
+    poses = None if cameras is None else [camera_pose(c) for c in cameras]
+    if poses is not None and len(poses) < rounds:
+        raise HybridError(f"frames_in_turn: {len(poses)} camera poses for {rounds} rounds (warm-up included)")
+    params = mi.traverse(scene.sensors()[0]) if poses is not None else None
+    original = None if params is None else mi.ScalarTransform4f(transform_matrix(params["to_world"]))
+    try:
+        for k in range(rounds):
+            upcoming = None
+            if poses is not None:
+                params["to_world"] = mi.ScalarTransform4f(poses[k])
+                params.update()
+                upcoming = poses[k + 1] if k + 1 < len(poses) else None
+            for name in order:
+                for j in range(block):
+                    if before is not None:
+                        before(name)
+                    result = integrators[name].render_result(scene, seed=seed + k * block + j, spp=spp, layers=False,
+                                                             next_camera=upcoming if j == block - 1 else None)
+                    if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
+                        times[name].append(result.stats.times_ms)
+            order = order[1:] + order[:1]
+        finish(scene)  # the last frame's times, with frames_in_flight=2
+    finally:
+        if params is not None:
+            params["to_world"] = original
+            params.update()
     return times
+
+
+def paired_ratio(times: dict[str, list[dict]], numerator: str, denominator: str, block: int = 1) -> dict:
+    """``numerator``'s frame time / ``denominator``'s, pair by pair, of frames rendered in turn
+    (:func:`frames_in_turn`'s ``times``): the median ratio, its quartiles, the pairs, and each
+    side's median frame time. ``block`` > 1: a pair is the two sides' median frames of a round."""
+    total = {side: [t["total"] for t in times[side]] for side in (numerator, denominator)}
+    per_round = max(block - 1, 1)
+    rounds = {side: [statistics.median(v[i:i + per_round]) for i in range(0, len(v), per_round)]
+              for side, v in total.items()}
+    ratios = np.asarray(rounds[numerator]) / np.asarray(rounds[denominator])
+    q25, median, q75 = (float(q) for q in np.percentile(ratios, [25, 50, 75]))
+    return {"median": median, "q25": q25, "q75": q75, "pairs": int(len(ratios)),
+            f"{numerator}_ms": statistics.median(total[numerator]),
+            f"{denominator}_ms": statistics.median(total[denominator])}
 
 
 def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3,
@@ -194,18 +232,11 @@ def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: 
     """RT baseline / all-candidates hybrid, frame by frame (module docstring): the two integrators
     with these ``properties``, one with ``primary="raytrace"``, render in turn
     (:func:`frames_in_turn`). Returns the median ratio of the measured pairs, its quartiles, and
-    each side's median frame time. ``block`` > 1 (frames in flight): the sides take turns by
-    blocks of frames, and a pair is the two sides' median frames of a round."""
+    each side's median frame time (:func:`paired_ratio`). ``block`` > 1 (frames in flight): the
+    sides take turns by blocks of frames, and a pair is the two sides' median frames of a round."""
     times = frames_in_turn(scene, {"hybrid": properties, "rt": dict(properties, primary="raytrace")}, frames, spp,
                            seed, warmup, block=block)
-    total = {side: [t["total"] for t in times[side]] for side in times}
-    per_round = max(block - 1, 1)
-    rounds = {side: [statistics.median(v[i:i + per_round]) for i in range(0, len(v), per_round)]
-              for side, v in total.items()}
-    ratios = np.asarray(rounds["rt"]) / np.asarray(rounds["hybrid"])
-    q25, median, q75 = (float(q) for q in np.percentile(ratios, [25, 50, 75]))
-    return {"median": median, "q25": q25, "q75": q75, "pairs": int(len(ratios)),
-            "hybrid_ms": statistics.median(total["hybrid"]), "rt_ms": statistics.median(total["rt"])}
+    return paired_ratio(times, "rt", "hybrid", block)
 
 
 def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int = 1, gt_spp: int = 1024,

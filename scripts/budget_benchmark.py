@@ -11,6 +11,9 @@
    relevance captured (Σ R traced / Σ R of the visible candidates), the selection changes per
    frame and the frame time; the RT baseline's frame time beside them; and plots budget against
    measured trace time per frame, and trace time against the pixels traced.
+4. Renders the RT baseline and the 50 % frame (nested) frame by frame in turn along the path
+   (``bench.frames_in_turn``) and reports the median ratio of the pairs: a budgeted frame is
+   host-bound, and its runs above move with the process's host by up to 1.2 ms (issue 10, stop 53).
 
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU, 640×360
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
@@ -32,11 +35,15 @@ ROOT = Path(__file__).resolve().parents[1]
 PROBES = 3  # the cost model's probe frames at the start of every budgeted run (budget.py)
 
 
-def path_scene(hi, scene: Path, frames: int, **params) -> tuple:
-    """``scene`` loaded with ``params`` and ``frames`` cameras along its path (``NAME_path.json``
-    beside it: look-at keyframes)."""
+def path_cameras(hi, scene: Path, frames: int) -> list:
+    """``frames`` cameras along the path of ``scene`` (``NAME_path.json`` beside it: look-at keyframes)."""
     keyframes = json.loads(scene.with_name(scene.stem + "_path.json").read_text())["keyframes"]
-    return hi.load_scene(scene, **params), hi.camera_path(keyframes, frames)
+    return hi.camera_path(keyframes, frames)
+
+
+def path_scene(hi, scene: Path, frames: int, **params) -> tuple:
+    """``scene`` loaded with ``params`` and ``frames`` cameras along its path (:func:`path_cameras`)."""
+    return hi.load_scene(scene, **params), path_cameras(hi, scene, frames)
 
 
 def run(hi, scene, cameras, **props) -> list[dict]:
@@ -109,6 +116,15 @@ def main() -> None:
         runs[name] = sequence(budget_ms=budgets[name], selection=selection, importance=importance)
         print(name, summary(runs[name], budgets[name]), flush=True)
     summaries = {name: summary(frames, budgets.get(name, 0.0)) for name, frames in runs.items()}
+    # the RT baseline and the 50 % frame (nested) frame by frame in turn along the path: a pair's two
+    # frames share the host's speed, which moves a budgeted frame, host-bound, by up to 1.2 ms
+    # between processes (docs/results/gpu/issue10/stop53)
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio
+    warm = PROBES + 2  # the budget's probe frames, then two to settle
+    turn = frames_in_turn(scene, {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}, args.frames, 1, 0,
+                          warmup=warm, cameras=path_cameras(hi, args.scene, warm + args.frames))
+    paired = paired_ratio(turn, "rt", "budget")
+    print("RT / 50 % in turn", paired, flush=True)
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
@@ -116,7 +132,8 @@ def main() -> None:
     machine = machine_of()
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps({"command": command, "machine": machine, "all_candidates_ms": all_ms,
-                                                            "budgets_ms": budgets, "summaries": summaries, "runs": runs}, indent=2))
+                                                            "budgets_ms": budgets, "summaries": summaries,
+                                                            "paired_rt_over_50": paired, "runs": runs}, indent=2))
     rt_ms = summaries["RT baseline (all candidates)"]["median_frame_ms"]
     md = [f"# Frame-time budget on the many-object scene ({args.variant})", "", f"Command: `{command}`  ",
           f"Machine: {machine}", "",
@@ -124,6 +141,9 @@ def main() -> None:
           f"{args.frames} frames of the camera path, {args.resx}×{args.resy}, 1 spp. All-candidates trace time "
           f"(median, device): **{all_ms:.2f} ms**; RT baseline frame: {rt_ms:.2f} ms. Budgeted runs are "
           f"measured after their {PROBES} probe frames.", "",
+          f"RT baseline / 50 % frame (nested), frame by frame in turn along the path (`bench.frames_in_turn`, "
+          f"{warm} warm-up rounds, {paired['pairs']} pairs): **{paired['median']:.2f}** [{paired['q25']:.2f}, "
+          f"{paired['q75']:.2f}] (RT {paired['rt_ms']:.2f} ms, 50 % {paired['budget_ms']:.2f} ms).", "",
           "| run | budget ms | frames that trace | frames within budget + 10 % | median / max trace ms | median frame ms | RT baseline / frame | relevance captured | selection changes per frame | objects traced / visible | rays / planned (median) | frames over 1.5× the planned rays |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, s in summaries.items():

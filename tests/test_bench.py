@@ -137,3 +137,33 @@ def test_each_scene_gets_the_parameters_it_names():
 
     scene, _ = load_bench_scene(str(SHARED_SCENES / "cbox/cbox_spheres_analytic.xml"), params)
     assert tuple(scene.sensors()[0].film().size()) == (24, 24)
+
+
+def test_frames_in_turn_along_a_camera_path():
+    """Along a camera path, every side renders round k from pose k (the warm-up rounds' too), the
+    pairs are formed from the measured rounds, the sensor's own pose comes back after, and too few
+    poses for the rounds is a clear error."""
+    import mitsuba as mi
+    import numpy as np
+
+    import hybrid_integrator as hi
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio
+    from hybrid_integrator.errors import HybridError
+    from hybrid_integrator.raster.camera import transform_matrix
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    params = mi.traverse(scene.sensors()[0])
+    before = transform_matrix(params["to_world"])
+    cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 4)
+    seen = {"raster": [], "raytrace": []}  # the sensor's pose at each side's frames
+    times = frames_in_turn(scene, {"raster": {"denoise": False}, "raytrace": {"denoise": False, "primary": "raytrace"}},
+                           frames=2, spp=1, seed=0, warmup=2, cameras=cameras,
+                           before=lambda name: seen[name].append(transform_matrix(params["to_world"])))
+    assert [len(times[side]) for side in ("raster", "raytrace")] == [2, 2]
+    for side in seen:
+        assert [np.allclose(m, transform_matrix(c)) for m, c in zip(seen[side], cameras)] == [True] * 4
+    assert np.array_equal(transform_matrix(params["to_world"]), before)
+    paired = paired_ratio(times, "raytrace", "raster")
+    assert paired["pairs"] == 2 and paired["q25"] <= paired["median"] <= paired["q75"] and paired["raster_ms"] > 0
+    with pytest.raises(HybridError, match="3 camera poses for 4 rounds"):
+        frames_in_turn(scene, {"raster": {}}, frames=2, spp=1, seed=0, warmup=2, cameras=cameras[:3])
