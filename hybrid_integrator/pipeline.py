@@ -775,7 +775,9 @@ class HybridRenderer:
         self._counts = [HostCopy(), HostCopy()] if mi.variant().startswith("cuda") else []
         #: the sub-pixel offsets of the next seed, made while the GPU traced the last frame
         self._next_offsets: dict[tuple[int, int], list[tuple[float, float]]] = {}
-        self._plan_ms = 0.0  # the host time of the last budget plan (:meth:`_plan`, :meth:`_plan_ahead`)
+        #: the host time (ms) of the last budget plan (:meth:`_plan`): whether a trace leaves the
+        #: host the time to plan the next frame ahead (:meth:`_plan_ahead`)
+        self._plan_ms = 0.0
         #: the last frame, while it is in flight (``frames_in_flight=2``: inflight.py), and the
         #: device time spans of frames no longer in flight, for reuse
         self._in_flight: InFlight | None = None
