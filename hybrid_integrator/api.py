@@ -1,6 +1,8 @@
 """The package's Python API: rasterize a G-buffer, render a hybrid frame."""
 from __future__ import annotations
 
+import contextlib
+
 import mitsuba as mi
 import numpy as np
 
@@ -127,23 +129,37 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
                           "hi.render_frames(scene_file, cameras, out_dir, workers=N) or `hybrid sequence --workers N`")
     integrator = _integrator(dict(properties))
     sensor = resolve_sensor(scene, sensor)
-    params = mi.traverse(sensor)
-    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     results = []
     matrices = [camera_pose(camera) for camera in cameras]  # each a finite, invertible 4×4 transform, before any frame
-    try:
-        current = None
+    with posed(sensor) as place:
         for frame, matrix in enumerate(matrices):
-            if current is None or not np.array_equal(matrix, current):  # a still camera needs no update
-                params["to_world"] = mi.ScalarTransform4f(matrix)
-                params.update()
-                current = matrix
+            place(matrix)
             # the next pose: this frame draws the next one's raster pass ahead (``raster_ahead``)
             upcoming = matrices[frame + 1] if frame + 1 < len(matrices) else None
             results.append(integrator.render_result(scene, sensor=sensor, seed=seed + frame, spp=spp, layers=layers,
                                                     next_camera=upcoming))
         finish(scene)  # the last frame's times, with frames_in_flight=2
+    return results
+
+
+@contextlib.contextmanager
+def posed(sensor: mi.Sensor):
+    """A camera path's poses for ``sensor``: yields ``place(matrix)``, which sets the sensor's
+    ``to_world`` to a 4×4 pose (``raster.camera.camera_pose``'s) unless it already stands there (a
+    still camera needs no update: its Dr.Jit variables, and the frame's camera, stay the same);
+    the sensor's own pose is restored on leaving."""
+    params = mi.traverse(sensor)
+    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
+    current = None
+
+    def place(matrix: np.ndarray) -> None:
+        nonlocal current
+        if current is None or not np.array_equal(matrix, current):
+            params["to_world"] = mi.ScalarTransform4f(matrix)
+            params.update()
+            current = matrix
+    try:
+        yield place
     finally:
         params["to_world"] = original
         params.update()
-    return results

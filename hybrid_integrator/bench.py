@@ -173,10 +173,10 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
 
     ``cameras``: a camera path (``api.camera_path``), one pose per round, warm-up rounds included:
     every side renders round k from pose k, told the next round's pose (as ``api.render_sequence``
-    tells a frame: the raster pass drawn ahead); the sensor's own pose is restored after. Without
-    it, the sensor's pose throughout."""
-    from .api import _integrator, finish
-    from .raster.camera import camera_pose, transform_matrix
+    tells a frame: the raster pass drawn ahead); the sensor's own pose is restored after
+    (``api.posed``). Without it, the sensor's pose throughout."""
+    from .api import _integrator, finish, posed
+    from .raster.camera import camera_pose
 
     integrators = {name: _integrator(dict(props)) for name, props in sides.items()}
     times: dict[str, list[dict]] = {name: [] for name in sides}
@@ -186,14 +186,11 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     poses = None if cameras is None else [camera_pose(c) for c in cameras]
     if poses is not None and len(poses) < rounds:
         raise HybridError(f"frames_in_turn: {len(poses)} camera poses for {rounds} rounds (warm-up included)")
-    params = mi.traverse(scene.sensors()[0]) if poses is not None else None
-    original = None if params is None else mi.ScalarTransform4f(transform_matrix(params["to_world"]))
-    try:
+    with posed(scene.sensors()[0]) as place:
         for k in range(rounds):
             upcoming = None
             if poses is not None:
-                params["to_world"] = mi.ScalarTransform4f(poses[k])
-                params.update()
+                place(poses[k])
                 upcoming = poses[k + 1] if k + 1 < len(poses) else None
             for name in order:
                 for j in range(block):
@@ -205,10 +202,6 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
                         times[name].append(result.stats.times_ms)
             order = order[1:] + order[:1]
         finish(scene)  # the last frame's times, with frames_in_flight=2
-    finally:
-        if params is not None:
-            params["to_world"] = original
-            params.update()
     return times
 
 

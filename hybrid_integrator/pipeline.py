@@ -1051,19 +1051,21 @@ class HybridRenderer:
         objects' camera path captured 6-13 % less relevance, for 0.4-0.8 ms less per frame
         (stop 53). The next frame uses the plan if its settings are the same and this frame's
         trace took no longer than the model predicted (:meth:`_account_times`)."""
-        cov = state.coverage
+        cov = state.coverage  # the last frame's, of this state (whose set-up may have been another)
         if (plan is None or not state.cost_model.calibrated or not isinstance(cov, Coverage)
                 or (cov.width, cov.height) != (frame.camera.width, frame.camera.height)):
             return
-        last = self._cameras.get(frame.setup)  # the last frame's camera (``_draw_ahead`` keeps it)
-        still = last is not None and last.draws_as(frame.camera) and (
-            next_pose is None or frame.camera.at(next_pose).draws_as(frame.camera))
+        # still: the last frame of this set-up (``_draw_ahead`` keeps its camera) drew as this one,
+        # and so will the next
+        last = self._cameras.get(frame.setup)
+        if not (last is not None and last.draws_as(frame.camera)
+                and (next_pose is None or frame.camera.at(next_pose).draws_as(frame.camera))):
+            return
         # and where the trace leaves the host the time to plan: a trace predicted to take less than
         # twice the last plan's host time is over before the plan, whose time then delays the
         # frame's end either way, and the next raster pass's issue with it (a trace of the
         # Armadillo's floor alone, 0.55 ms: frames 0.13-0.21 ms longer so, stop 53)
-        long = state.cost_model.predict(plan.rays) * frame.stats.spp >= 2.0 * self._plan_ms
-        if still and long:
+        if state.cost_model.predict(plan.rays) * frame.stats.spp >= 2.0 * self._plan_ms:
             state.next_plan = ((frame.setup, frame.stats.spp, state.frames + 1),
                                self._plan(settings, frame, state, cov, selected=plan.traced))
 

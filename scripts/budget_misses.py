@@ -32,27 +32,24 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
-    from hybrid_integrator.api import _integrator, transform_matrix
+    from hybrid_integrator.api import _integrator, camera_pose, posed
 
     hi.register()
     scene, cameras = path_scene(hi, ROOT / "scenes/many_objects.xml", args.frames, resx=args.resx, resy=args.resy)
     names = hi.scene_objects(scene).names
     sensor = scene.sensors()[0]
-    params = mi.traverse(sensor)
-    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
 
     def sequence(**props):
         integrator, out = _integrator(dict(props)), []
         for k, camera in enumerate(cameras):
-            params["to_world"] = mi.ScalarTransform4f(transform_matrix(camera))
-            params.update()
+            place(camera_pose(camera))
             state = integrator.state
             before = (state.rays_per_pixel.copy(), None if state.coverage is None else state.coverage.pixels.copy())
             stats = integrator.render_result(scene, sensor=sensor, seed=k, spp=1, layers=False).stats
             out.append((stats, *before, integrator.state.rays_per_pixel.copy(), integrator.state.coverage.pixels.copy()))
         return out
 
-    try:
+    with posed(sensor) as place:
         budget = args.fraction * statistics.median(f[0].times_ms["trace"] for f in sequence())
         print(f"budget {budget:.2f} ms ({args.fraction:.0%} of the all-candidates trace), {args.resx}x{args.resy}")
         for k, (s, rays_before, pixels_before, rays_after, pixels_now) in enumerate(sequence(budget_ms=budget, selection="greedy")):
@@ -66,9 +63,6 @@ def main() -> None:
                 learnt = [np.round(t[i], 2) if i < len(t) else "never" for t in (rays_before, rays_after)]
                 print(f"    {name:12s} pixels {int(pixels_before[i]) if pixels_before is not None else '-':>6} -> "
                       f"{int(pixels_now[i]):6d}   rays/pixel {learnt[0]} -> {learnt[1]}")
-    finally:
-        params["to_world"] = original
-        params.update()
 
 
 if __name__ == "__main__":

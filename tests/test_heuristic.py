@@ -12,7 +12,7 @@ import pytest
 import hybrid_integrator as hi
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.budget import CostModel, plan_frame
-from hybrid_integrator.raster.camera import sensor_to_world, transform_matrix
+from hybrid_integrator.raster.camera import camera_pose, sensor_to_world
 from hybrid_integrator.heuristic import BLOCKS, KINDS, SPREAD, Candidates, Coverage, DeviceSums, add_error, candidate_kinds, coverage, object_relevance
 from conftest import DEFAULT_SCENE, load
 
@@ -149,17 +149,11 @@ def test_a_moving_camera_plans_the_pixels_an_object_gains():
     scene = load(DEFAULT_SCENE)
     cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 3)
     integrator = hi.api._integrator({"budget_ms": 50.0})
-    params = mi.traverse(scene.sensors()[0])
-    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
-    try:
+    with hi.api.posed(scene.sensors()[0]) as place:
         for k, camera in enumerate(cameras):
-            params["to_world"] = camera
-            params.update()
+            place(camera_pose(camera))
             integrator.render_result(scene, seed=k, spp=1, layers=False)
             assert (integrator.state.growth is None) == (k == 0)
-    finally:
-        params["to_world"] = original
-        params.update()
     assert integrator.state.growth.max() > 1.0  # the camera came closer
 
 
@@ -309,23 +303,19 @@ def test_moving_camera_plans_the_next_frame_from_its_own_coverage():
     integrator = hi.api._integrator({"budget_ms": 1000.0, "denoise": False})
     integrator.state.cost_model = _SteadyMargin()
     cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 9)
-    params = mi.traverse(scene.sensors()[0])
-    original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     renderer = hi.api.renderer(scene)
     callers = []  # which method asked for a plan, per frame
     renderer._plan = lambda *a, **k: (callers[-1].append(sys._getframe(1).f_code.co_name),
                                       type(renderer)._plan(renderer, *a, **k))[1]
     try:
-        for k, camera in enumerate(cameras + [cameras[-1]] * 3):  # the path, then standing still
-            params["to_world"] = camera
-            params.update()
-            upcoming = cameras[k + 1] if k + 1 < len(cameras) else cameras[-1]
-            callers.append([])
-            integrator.render_result(scene, seed=k, spp=1, layers=False, next_camera=upcoming)
+        with hi.api.posed(scene.sensors()[0]) as place:
+            for k, camera in enumerate(cameras + [cameras[-1]] * 3):  # the path, then standing still
+                place(camera_pose(camera))
+                upcoming = cameras[k + 1] if k + 1 < len(cameras) else cameras[-1]
+                callers.append([])
+                integrator.render_result(scene, seed=k, spp=1, layers=False, next_camera=upcoming)
     finally:
         del renderer._plan
-        params["to_world"] = original
-        params.update()
     # frames 0-2 probe the machine; the path's frames after them plan the next one from their counts
     assert callers[4:8] == [["_account"]] * 4, callers
     # at the path's end the camera stands still (the frame before drew from the same camera): ahead

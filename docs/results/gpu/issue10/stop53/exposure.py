@@ -122,28 +122,23 @@ def run(hi, mi, scene, path: Path, cameras: list, args, turn: list, probes: int)
         turn[0] = "none"
         hi.render_sequence(scene, cameras[:6], spp=1, layers=False, **props)  # compiles, records
         integrator = hi.api._integrator(dict(props))
-        params = mi.traverse(scene.sensors()[0])
         frames = {p: [] for p in POINTS}
         phases = {p: [] for p in POINTS}
         traces = []
-        original = mi.ScalarTransform4f(hi.api.transform_matrix(params["to_world"]))
         try:
-            for k, camera in enumerate(cameras):
-                if k == 0 or camera is not cameras[k - 1]:  # a still camera is not updated (render_sequence)
-                    params["to_world"] = camera
-                    params.update()
-                turn[0] = POINTS[k % len(POINTS)]
-                upcoming = cameras[k + 1] if k + 1 < len(cameras) else None
-                result = integrator.render_result(scene, seed=k, spp=1, layers=False, next_camera=upcoming)
-                if k >= probes + len(POINTS):
-                    frames[turn[0]].append(result.stats.times_ms["total"])
-                    waits = result.stats.times_ms["total"] - sum(result.stats.host_ms.values())  # for the counts, the sync
-                    phases[turn[0]].append({**result.stats.host_ms, "waits": waits})
-                    traces.append(result.stats.times_ms["trace"])
+            with hi.api.posed(scene.sensors()[0]) as place:  # as render_sequence poses the sensor
+                for k, camera in enumerate(cameras):
+                    place(hi.api.camera_pose(camera))
+                    turn[0] = POINTS[k % len(POINTS)]
+                    upcoming = cameras[k + 1] if k + 1 < len(cameras) else None
+                    result = integrator.render_result(scene, seed=k, spp=1, layers=False, next_camera=upcoming)
+                    if k >= probes + len(POINTS):
+                        frames[turn[0]].append(result.stats.times_ms["total"])
+                        waits = result.stats.times_ms["total"] - sum(result.stats.host_ms.values())  # for the counts, the sync
+                        phases[turn[0]].append({**result.stats.host_ms, "waits": waits})
+                        traces.append(result.stats.times_ms["trace"])
         finally:
             turn[0] = "none"
-            params["to_world"] = original
-            params.update()
         if label == "all candidates":
             trace_all = statistics.median(traces)
         base = statistics.median(frames["none"])
