@@ -435,8 +435,9 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     ``tiers`` (per object) marks the objects that also have a **shadow tier**: a second row that
     traces only their shadow rays and takes their indirect light from the cheap model (the learnt
     indirect term, ``lighting.py``), at a fraction of the full row's cost. Its terms are learnt in
-    the rows after the objects' (``Candidates.keys``); a larger budget only adds rows, so an
-    object goes from nothing to its shadow tier to every effect.
+    the rows after the objects' (``Candidates.keys``); a larger budget only adds rows (nested
+    selection from its first row's cost up: ``selection_graph``), so an object goes from nothing
+    to its shadow tier to every effect.
 
     ``growth`` (per object, :func:`pixel_growth`) scales the pixels its rays are expected from: a
     moving camera's next frame shows more of the objects it approaches or turns towards than the

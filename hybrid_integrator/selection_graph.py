@@ -12,9 +12,10 @@ follow relevance pointers while they lead to a more relevant node; the node wher
 selected, ray traced, and moved to the next graph; its cost is taken from the time left and the
 walk starts again. When nothing fits, every remaining node moves to the next graph.
 
-**Nested** (the default): the longest run of nodes by decreasing R/C that fits; a larger
-budget only adds nodes. **Greedy**: take nodes by decreasing R/C while they fit, unless the single most relevant node
-that fits is worth more. **Exact**: the 0/1 knapsack optimum
+**Nested** (the default): the longest run of nodes by decreasing R/C that fits (from the first
+node that fits alone, where the first does not); from the first node's cost up, a larger budget
+only adds nodes. **Greedy**: take nodes by decreasing R/C while they fit, unless the single most
+relevant node that fits is worth more. **Exact**: the 0/1 knapsack optimum
 (maximum total R with total C within the budget), solved as a mixed-integer linear program by
 SciPy's HiGHS (``scipy.optimize.milp``); meant for small N, as a yardstick.
 
@@ -103,7 +104,13 @@ class SelectionGraph:
 def select_nested(nodes: list[Node], budget: float) -> list[Node]:
     """The longest run of nodes, by decreasing R/C, that fits: *nested* in the budget (what a
     budget B selects, any budget above B selects too), so more budget never swaps a selection
-    for another; it leaves unused at most the cost of the first node that does not fit."""
+    for another; it leaves unused at most the cost of the first node that does not fit.
+
+    Where the first node alone costs more than the budget, the run starts at the first node that
+    fits alone (an upgrade of a node passed over is passed over too), rather than selecting
+    nothing: the budget is spent, not held by tracing nothing (issue 10's complaint; on the H200
+    the showcase's frames at 25 % traced nothing in most frames: docs/results/gpu/issue10/stop54).
+    Budgets from the first node's cost up stay nested."""
     return _rows_of("nested", nodes, budget)
 
 
@@ -195,7 +202,12 @@ def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: fl
     # a base before its upgrades: upgrades() keeps only those adding less per millisecond than it
     order = rows[np.argsort(-relevance[rows] / np.maximum(cost[rows], 1e-12), kind="stable")]
     if method == "nested":
-        chosen = order[:int(np.searchsorted(np.cumsum(cost[order]), budget, side="right"))]
+        chosen = _run(order, cost, budget)
+        if not len(chosen):  # the first node alone is over the budget: the run starts at the first that fits
+            fits = np.nonzero(row_cost[order] <= budget)[0]
+            if len(fits):
+                passed, rest = order[:fits[0]], order[fits[0]:]
+                chosen = _run(rest[~np.isin(requires[rest], passed)], cost, budget)  # no upgrade of a node passed over
     else:
         taken = np.zeros(len(cost), dtype=bool)
         time_left = float(budget)
@@ -212,6 +224,11 @@ def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: fl
                 return np.array([best])
     replaced = requires[chosen]
     return chosen[~np.isin(chosen, replaced[replaced >= 0])].astype(np.int64)
+
+
+def _run(order: np.ndarray, cost: np.ndarray, budget: float) -> np.ndarray:
+    """The longest run of ``order`` whose costs add up to at most ``budget``."""
+    return order[:int(np.searchsorted(np.cumsum(cost[order]), budget, side="right"))]
 
 
 def select(method: str, nodes: list[Node], budget: float, pointers: int = 4) -> list[Node]:

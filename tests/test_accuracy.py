@@ -143,11 +143,17 @@ def test_moving_camera_history_never_worse_than_no_history(denoise, size, seed):
 
 
 def test_nested_selection_only_adds_objects():
+    """From the cost of the first node (by R/C) up, more budget only adds nodes; below it, a budget
+    that affords some node selects one (never nothing while a node fits)."""
     rng = np.random.default_rng(0)
     for _ in range(50):
         nodes = [Node(k, float(c), float(r)) for k, (c, r) in enumerate(rng.random((12, 2)))]
-        chosen = [{n.key for n in select("nested", nodes, budget)} for budget in np.linspace(0, 6, 13)]
-        assert all(a <= b for a, b in zip(chosen, chosen[1:]))
+        first = max(nodes, key=lambda n: n.relevance / n.cost).cost
+        budgets = np.linspace(0, 6, 13)
+        chosen = [{n.key for n in select("nested", nodes, budget)} for budget in budgets]
+        nested = [c for c, budget in zip(chosen, budgets) if budget >= first]
+        assert all(a <= b for a, b in zip(nested, nested[1:]))
+        assert all(bool(c) == (budget >= min(n.cost for n in nodes)) for c, budget in zip(chosen, budgets))
     with pytest.raises(Exception, match="relevance=.size. is not one of"):
         hi.render(load(DEFAULT_SCENE, **SIZE), spp=1, relevance="size")
 

@@ -115,6 +115,17 @@ def test_a_dominated_tier_is_passed_over():
     assert {n.key for n in select("nested", nodes, 5.0)} == {"a whole", "b"}
 
 
+def test_nested_starts_at_the_first_node_that_fits():
+    """Where the first node by R/C (a's tier, 5 ms) is over the budget, nested selects the run
+    from the first node that fits alone (b) rather than nothing; a's upgrade (1 ms more than its
+    tier), which would fit by what it adds, is passed over with the tier it upgrades."""
+    nodes = options(tier=(5.0, 1.0), whole=(6.0, 1.05), other=(1.0, 0.1))
+    assert {n.key for n in select("nested", nodes, 2.0)} == {"b"}
+    assert {n.key for n in select("nested", nodes, 0.5)} == set()  # nothing fits
+    assert {n.key for n in select("nested", nodes, 5.0)} == {"a tier"}  # the first fits: the run from it
+    assert {n.key for n in select("nested", nodes, 7.0)} == {"a whole", "b"}
+
+
 def test_nested_budgets_only_upgrade():
     """With options, more budget still only adds: an object goes from nothing to its tier to whole."""
     rng = np.random.default_rng(3)
