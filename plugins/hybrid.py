@@ -76,8 +76,9 @@ Properties
                  frame's visibility buffer), selected within the budget by ``selection`` with costs
                  predicted by a cost model calibrated online on the measured trace time, and traced
                  in one call (``hybrid_integrator/budget.py``). The frame is always complete.
-``selection``    ``nested`` (the default: the longest run by relevance per cost that fits, so that
-                 more budget only ever adds objects), ``greedy`` (by relevance per cost, skipping
+``selection``    ``nested`` (the default: the longest run by relevance per cost that fits, starting
+                 at the first object that fits alone where the first does not; from the first
+                 object's cost up, more budget only ever adds objects), ``greedy`` (by relevance per cost, skipping
                  what does not fit: it captured ≥ 99.5 % of the optimum's relevance on random
                  instances, docs/results), ``graph`` (the paper's selection graph, §4.2-4.3) or
                  ``exact`` (0/1 knapsack).
