@@ -15,7 +15,7 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
   of the same code (issue 10, stop 29); a pair's frames share the drift; and the same paired Gain
   with two frames in flight (``frames_in_flight=2``, ``inflight.py``: the next frame issued while
   the GPU finishes the last, each frame timed by CUDA events), the sides in turns of
-  :data:`IN_FLIGHT_BLOCK` frames;
+  :data:`TURN_BLOCK` frames;
 - ``hybrid@X%``: ``budget_ms`` = X % of the all-candidates trace time, X in ``budgets`` (0 %:
   a budget that pays for nothing). Each budgeted run first renders the cost model's three probe
   frames (``budget.py``), which are warm-up, not measured;
@@ -63,6 +63,7 @@ resolution.
 """
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import platform
@@ -93,8 +94,9 @@ ERROR_FRAMES = 4
 HISTORY_CHECKPOINTS = (1, 2, 4, 8, 16)
 #: paths per primary hit of the second still-camera history (``secondary_spp``)
 HISTORY_PATHS = 8
-#: frames per turn of the paired Gain with frames in flight (the first of each not measured)
-IN_FLIGHT_BLOCK = 5
+#: frames per side and round where frames in turn go by blocks, the first of each not measured: the
+#: paired Gain with frames in flight, and the budget's RT / 50 % by blocks (scripts/budget_benchmark.py)
+TURN_BLOCK = 5
 
 
 def history_rival(method: str, denoised: bool = False) -> str:
@@ -157,6 +159,65 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
     return load_scene(spec, **used), Path(spec).stem
 
 
+def path_cameras(scene_file: str | Path, frames: int) -> list | None:
+    """``frames`` cameras along the camera path of ``scene_file`` (``NAME_path.json`` beside it:
+    look-at keyframes, ``api.camera_path``), or None where it has none."""
+    from .api import camera_path
+
+    path = Path(scene_file)
+    keyframes = path.with_name(path.stem + "_path.json")
+    return camera_path(json.loads(keyframes.read_text())["keyframes"], frames) if keyframes.is_file() else None
+
+
+@dataclass
+class TurnScene:
+    """A scene made ready for :func:`frames_in_turn` (:func:`turn_scene`)."""
+
+    scene: mi.Scene
+    name: str
+    cameras: list | None  # its camera path, one pose per frame of a round (None: the sensor's pose)
+    all_candidates_trace_ms: float  # the hybrid's median trace time, every candidate traced (device ms)
+
+
+def turn_scene(spec: str, params: dict, poses: int) -> TurnScene:
+    """A scene for frames in turn, as the GPU probes of issue 10 take it: loaded as the bench loads
+    it (:func:`load_bench_scene`), ``poses`` cameras along its path where it has one
+    (:func:`path_cameras`; :func:`turn_poses` says how many), and the all-candidates hybrid's median trace time, from 40 frames
+    along that path (or 12 from its sensor), the first two not counted: what a budget's
+    fractions are of."""
+    import hybrid_integrator as hi
+
+    scene, name = load_bench_scene(spec, params)
+    along = path_cameras(spec, 40)
+    frames = (hi.render_sequence(scene, along, spp=1, layers=False) if along is not None
+              else [hi.render(scene, spp=1, seed=k, layers=False) for k in range(12)])
+    return TurnScene(scene=scene, name=name, cameras=path_cameras(spec, poses),
+                     all_candidates_trace_ms=statistics.median(f.stats.times_ms["trace"] for f in frames[2:]))
+
+
+def turn_arguments(description: str, budgets=(0.5,), block: int | None = None) -> argparse.ArgumentParser:
+    """The command line that the GPU probes of frames in turn share (docs/results/gpu/issue10): the
+    scene files, ``--variant``, ``--frames`` measured per side, ``--budgets`` (fractions of the
+    all-candidates trace time, :func:`turn_scene`), ``-D NAME=VALUE`` scene parameters (``defines``:
+    name, value pairs) and, given a default ``block``, ``--block`` frames per side and round."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("scenes", nargs="+", type=Path)
+    parser.add_argument("--variant", default="llvm_ad_rgb")
+    parser.add_argument("--frames", type=int, default=40, help="measured frames per side")
+    parser.add_argument("--budgets", type=float, nargs="*", default=list(budgets), help="fractions of the hybrid's trace time")
+    parser.add_argument("-D", dest="defines", action="append", default=[], type=lambda d: tuple(d.split("=", 1)),
+                        help="scene parameter NAME=VALUE")
+    if block is not None:
+        parser.add_argument("--block", type=int, default=block, help="frames per side and round")
+    return parser
+
+
+def turn_poses(frames: int, warmup: int = 3, block: int = 1) -> int:
+    """The camera poses :func:`frames_in_turn` takes for ``frames`` measured frames per side:
+    one per frame of a side's rounds, warm-up rounds included."""
+    return (warmup + -(-frames // max(block - 1, 1))) * block
+
+
 def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
                    warmup: int = 3, before=None, block: int = 1, cameras=None) -> dict[str, list[dict]]:
     """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
@@ -171,9 +232,11 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     next); ``frames`` measured frames per side, in rounds of ``block`` − 1 (the last round may
     measure fewer). ``warmup`` rounds are not measured.
 
-    ``cameras``: a camera path (``api.camera_path``), one pose per round, warm-up rounds included:
-    every side renders round k from pose k, told the next round's pose (as ``api.render_sequence``
-    tells a frame: the raster pass drawn ahead); the sensor's own pose is restored after
+    ``cameras``: a camera path (``api.camera_path``), one pose per frame of a side's round
+    (``block`` per round, warm-up rounds included): every side renders the j-th frame of round k
+    from pose k·``block`` + j, told the next pose (as ``api.render_sequence`` tells a frame: the
+    raster pass drawn ahead), so that each side's frames move along the path as in a sequence of
+    its own (:func:`turn_poses` poses are needed); the sensor's own pose is restored after
     (``api.posed``). Without it, the sensor's pose throughout."""
     from .api import _integrator, finish, posed
     from .raster.camera import camera_pose
@@ -181,23 +244,23 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     integrators = {name: _integrator(dict(props)) for name, props in sides.items()}
     times: dict[str, list[dict]] = {name: [] for name in sides}
     order = list(sides)
-    per_round = max(block - 1, 1)
-    rounds = warmup + -(-frames // per_round)
+    rounds = turn_poses(frames, warmup, block) // block
     poses = None if cameras is None else [camera_pose(c) for c in cameras]
-    if poses is not None and len(poses) < rounds:
-        raise HybridError(f"frames_in_turn: {len(poses)} camera poses for {rounds} rounds (warm-up included)")
+    if poses is not None and len(poses) < rounds * block:
+        raise HybridError(f"frames_in_turn: {len(poses)} camera poses for {rounds} rounds of {block} frames "
+                          "(warm-up included)")
     with posed(scene.sensors()[0]) as place:
         for k in range(rounds):
-            upcoming = None
-            if poses is not None:
-                place(poses[k])
-                upcoming = poses[k + 1] if k + 1 < len(poses) else None
             for name in order:
                 for j in range(block):
+                    upcoming = None
+                    if poses is not None:
+                        place(poses[k * block + j])
+                        upcoming = poses[k * block + j + 1] if k * block + j + 1 < len(poses) else None
                     if before is not None:
                         before(name)
                     result = integrators[name].render_result(scene, seed=seed + k * block + j, spp=spp, layers=False,
-                                                             next_camera=upcoming if j == block - 1 else None)
+                                                             next_camera=upcoming)
                     if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
                         times[name].append(result.stats.times_ms)
             order = order[1:] + order[:1]
@@ -300,7 +363,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     # the same two frames with the next frame issued while the GPU finishes the last (inflight.py):
     # blocks of five frames in turn, four measured
     in_flight = paired_gain(scene, {**base, "frames_in_flight": 2}, frames, spp, seed,
-                            block=IN_FLIGHT_BLOCK)
+                            block=TURN_BLOCK)
     trace_all = everything.stages_ms["trace"]
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
         hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))

@@ -14,6 +14,10 @@
 4. Renders the RT baseline and the 50 % frame (nested) frame by frame in turn along the path
    (``bench.frames_in_turn``) and reports the median ratio of the pairs: a budgeted frame is
    host-bound, and its runs above move with the process's host by up to 1.2 ms (issue 10, stop 53).
+5. The same two in turn by blocks of ``bench.TURN_BLOCK`` frames along the path, the first of
+   each not measured: it pays for the switch from the other side, which cost a budgeted frame
+   0.34-0.39 ms alternating frame by frame (stop 54), while a round's frames still share the
+   host's speed (stop 56).
 
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU, 640×360
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
@@ -35,15 +39,11 @@ ROOT = Path(__file__).resolve().parents[1]
 PROBES = 3  # the cost model's probe frames at the start of every budgeted run (budget.py)
 
 
-def path_cameras(hi, scene: Path, frames: int) -> list:
-    """``frames`` cameras along the path of ``scene`` (``NAME_path.json`` beside it: look-at keyframes)."""
-    keyframes = json.loads(scene.with_name(scene.stem + "_path.json").read_text())["keyframes"]
-    return hi.camera_path(keyframes, frames)
-
-
 def path_scene(hi, scene: Path, frames: int, **params) -> tuple:
-    """``scene`` loaded with ``params`` and ``frames`` cameras along its path (:func:`path_cameras`)."""
-    return hi.load_scene(scene, **params), path_cameras(hi, scene, frames)
+    """``scene`` loaded with ``params`` and ``frames`` cameras along its path (``bench.path_cameras``)."""
+    from hybrid_integrator.bench import path_cameras
+
+    return hi.load_scene(scene, **params), path_cameras(scene, frames)
 
 
 def run(hi, scene, cameras, **props) -> list[dict]:
@@ -119,12 +119,18 @@ def main() -> None:
     # the RT baseline and the 50 % frame (nested) frame by frame in turn along the path: a pair's two
     # frames share the host's speed, which moves a budgeted frame, host-bound, by up to 1.2 ms
     # between processes (docs/results/gpu/issue10/stop53)
-    from hybrid_integrator.bench import frames_in_turn, paired_ratio
+    from hybrid_integrator.bench import TURN_BLOCK, frames_in_turn, paired_ratio, path_cameras, turn_poses
     warm = PROBES + 2  # the budget's probe frames, then two to settle
-    turn = frames_in_turn(scene, {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}, args.frames, 1, 0,
-                          warmup=warm, cameras=path_cameras(hi, args.scene, warm + args.frames))
+    sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}
+    turn = frames_in_turn(scene, sides, args.frames, 1, 0,
+                          warmup=warm, cameras=path_cameras(args.scene, turn_poses(args.frames, warm)))
     paired = paired_ratio(turn, "rt", "budget")
     print("RT / 50 % in turn", paired, flush=True)
+    # by blocks (5.); two warm-up rounds: the probes and more
+    blocks = frames_in_turn(scene, sides, args.frames, 1, 0, warmup=2, block=TURN_BLOCK,
+                            cameras=path_cameras(args.scene, turn_poses(args.frames, 2, TURN_BLOCK)))
+    paired_blocks = paired_ratio(blocks, "rt", "budget", TURN_BLOCK)
+    print("RT / 50 % in turn by blocks", paired_blocks, flush=True)
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
@@ -133,7 +139,8 @@ def main() -> None:
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps({"command": command, "machine": machine, "all_candidates_ms": all_ms,
                                                             "budgets_ms": budgets, "summaries": summaries,
-                                                            "paired_rt_over_50": paired, "runs": runs}, indent=2))
+                                                            "paired_rt_over_50": paired,
+                                                            "paired_rt_over_50_blocks": paired_blocks, "runs": runs}, indent=2))
     rt_ms = summaries["RT baseline (all candidates)"]["median_frame_ms"]
     md = [f"# Frame-time budget on the many-object scene ({args.variant})", "", f"Command: `{command}`  ",
           f"Machine: {machine}", "",
@@ -144,6 +151,9 @@ def main() -> None:
           f"RT baseline / 50 % frame (nested), frame by frame in turn along the path (`bench.frames_in_turn`, "
           f"{warm} warm-up rounds, {paired['pairs']} pairs): **{paired['median']:.2f}** [{paired['q25']:.2f}, "
           f"{paired['q75']:.2f}] (RT {paired['rt_ms']:.2f} ms, 50 % {paired['budget_ms']:.2f} ms).", "",
+          f"The same by blocks of {TURN_BLOCK} frames along the path, the first of each not measured "
+          f"({paired_blocks['pairs']} rounds): **{paired_blocks['median']:.2f}** [{paired_blocks['q25']:.2f}, "
+          f"{paired_blocks['q75']:.2f}] (RT {paired_blocks['rt_ms']:.2f} ms, 50 % {paired_blocks['budget_ms']:.2f} ms).", "",
           "| run | budget ms | frames that trace | frames within budget + 10 % | median / max trace ms | median frame ms | RT baseline / frame | relevance captured | selection changes per frame | objects traced / visible | rays / planned (median) | frames over 1.5× the planned rays |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, s in summaries.items():

@@ -142,12 +142,13 @@ def test_each_scene_gets_the_parameters_it_names():
 def test_frames_in_turn_along_a_camera_path():
     """Along a camera path, every side renders round k from pose k (the warm-up rounds' too), the
     pairs are formed from the measured rounds, the sensor's own pose comes back after, and too few
-    poses for the rounds is a clear error."""
+    poses for the rounds is a clear error. By blocks, every side moves along the path frame by
+    frame: the j-th frame of round k from pose k·block + j (``bench.turn_poses`` of them)."""
     import mitsuba as mi
     import numpy as np
 
     import hybrid_integrator as hi
-    from hybrid_integrator.bench import frames_in_turn, paired_ratio
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio, turn_poses
     from hybrid_integrator.errors import HybridError
     from hybrid_integrator.raster.camera import transform_matrix
 
@@ -167,3 +168,28 @@ def test_frames_in_turn_along_a_camera_path():
     assert paired["pairs"] == 2 and paired["q25"] <= paired["median"] <= paired["q75"] and paired["raster_ms"] > 0
     with pytest.raises(HybridError, match="3 camera poses for 4 rounds"):
         frames_in_turn(scene, {"raster": {}}, frames=2, spp=1, seed=0, warmup=2, cameras=cameras[:3])
+    # by blocks of 3 (the first of each not measured): 1 warm-up round and 1 measured round, 6 poses
+    assert turn_poses(2, warmup=1, block=3) == 6
+    cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 6)
+    seen = {"raster": [], "raytrace": []}
+    times = frames_in_turn(scene, {"raster": {"denoise": False}, "raytrace": {"denoise": False, "primary": "raytrace"}},
+                           frames=2, spp=1, seed=0, warmup=1, block=3, cameras=cameras,
+                           before=lambda name: seen[name].append(transform_matrix(params["to_world"])))
+    assert [len(times[side]) for side in ("raster", "raytrace")] == [2, 2]
+    for side in seen:
+        assert [np.allclose(m, transform_matrix(c)) for m, c in zip(seen[side], cameras)] == [True] * 6
+    with pytest.raises(HybridError, match="5 camera poses for 2 rounds of 3 frames"):
+        frames_in_turn(scene, {"raster": {}}, frames=2, spp=1, seed=0, warmup=1, block=3, cameras=cameras[:5])
+
+
+def test_turn_scene_takes_the_parameters_its_file_uses_and_its_camera_path():
+    """``bench.turn_scene`` (the GPU probes' set-up): the scene loaded with the parameters its file
+    uses, its camera path where it has one (``NAME_path.json``), else None, and the hybrid's median
+    trace time with every candidate traced."""
+    from hybrid_integrator.bench import path_cameras, turn_scene
+
+    ready = turn_scene(str(DEFAULT_SCENE), {"resx": "32", "resy": "24", "sponza_dir": "unused"}, 4)
+    assert ready.cameras is None and ready.name == DEFAULT_SCENE.stem
+    assert ready.scene.sensors()[0].film().size().x == 32 and ready.all_candidates_trace_ms > 0
+    many = DEFAULT_SCENE.parent / "many_objects.xml"
+    assert len(path_cameras(many, 3)) == 3 and path_cameras(DEFAULT_SCENE, 3) is None

@@ -17,33 +17,23 @@ Tried and reverted: the graph is not in the package. Apply the diff first
 from __future__ import annotations
 
 import argparse
-import statistics
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[5]
-sys.path.insert(0, str(ROOT / "scripts"))
 WARM = 5  # rounds not measured: the budget's three probe frames among them
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("scenes", nargs="+", type=Path)
-    parser.add_argument("--variant", default="llvm_ad_rgb")
-    parser.add_argument("--frames", type=int, default=40)
-    parser.add_argument("--budgets", type=float, nargs="*", default=[0.5], help="fractions of the hybrid's trace time")
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio, turn_arguments, turn_poses, turn_scene
+
+    parser = turn_arguments(__doc__.splitlines()[0])
     parser.add_argument("--unbudgeted", action=argparse.BooleanOptionalAction, default=True,
                         help="the hybrid and the RT baseline without a budget too")
-    parser.add_argument("-D", dest="defines", action="append", default=[], help="scene parameter NAME=VALUE")
     args = parser.parse_args()
 
     import mitsuba as mi
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
-    from budget_benchmark import path_cameras
     from hybrid_integrator import denoise
-    from hybrid_integrator.bench import frames_in_turn, paired_ratio
 
     hi.register()
     capture, graphs = denoise.Denoiser._capture, {"on": True}
@@ -52,14 +42,10 @@ def main() -> None:
     def before(name: str) -> None:  # a side's denoiser captures its graph, or never (the way before)
         graphs["on"] = name == "graph"
 
-    params = dict(d.split("=", 1) for d in args.defines)
+    params = dict(args.defines)
     for path in args.scenes:
-        scene = hi.load_scene(path, **{k: v for k, v in params.items() if f"${k}" in path.read_text()})
-        has_path = path.with_name(path.stem + "_path.json").exists()
-        cameras = path_cameras(hi, path, WARM + args.frames) if has_path else None
-        frames = (hi.render_sequence(scene, cameras, spp=1, layers=False) if has_path
-                  else [hi.render(scene, spp=1, seed=k, layers=False) for k in range(12)])
-        all_ms = statistics.median(f.stats.times_ms["trace"] for f in frames[2:])
+        ready = turn_scene(str(path), params, turn_poses(args.frames, WARM))
+        scene, cameras, all_ms = ready.scene, ready.cameras, ready.all_candidates_trace_ms
         kinds = {"hybrid": {}, "RT baseline": {"primary": "raytrace"}} if args.unbudgeted else {}
         kinds |= {f"{b:.0%} budget": {"budget_ms": b * all_ms} for b in args.budgets}
         for kind, props in kinds.items():

@@ -17,32 +17,18 @@ Tried and reverted: apply ``diffs/late_readout.diff`` first (``git apply``), as 
 """
 from __future__ import annotations
 
-import argparse
-import statistics
-import sys
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[5]
-sys.path.insert(0, str(ROOT / "scripts"))
 WARM = 3  # rounds not measured: the budget's three probe frames among them
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("scenes", nargs="+", type=Path)
-    parser.add_argument("--variant", default="llvm_ad_rgb")
-    parser.add_argument("--frames", type=int, default=40, help="measured frames per side")
-    parser.add_argument("--block", type=int, default=3, help="frames per side and round")
-    parser.add_argument("--budgets", type=float, nargs="+", default=[0.25, 0.5], help="fractions of the hybrid's trace time")
-    parser.add_argument("-D", dest="defines", action="append", default=[], help="scene parameter NAME=VALUE")
-    args = parser.parse_args()
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio, turn_arguments, turn_poses, turn_scene
+
+    args = turn_arguments(__doc__.splitlines()[0], budgets=(0.25, 0.5), block=3).parse_args()
 
     import mitsuba as mi
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
-    from budget_benchmark import path_cameras
-    from hybrid_integrator.bench import frames_in_turn, paired_ratio
     from hybrid_integrator.pipeline import HybridRenderer
 
     hi.register()
@@ -52,15 +38,10 @@ def main() -> None:
     def before(name: str) -> None:  # the side's frames read their stage times late, or at once
         side["late"] = name == "after"
 
-    params = dict(d.split("=", 1) for d in args.defines)
-    rounds = WARM + -(-args.frames // max(args.block - 1, 1))
+    params = dict(args.defines)
     for path in args.scenes:
-        scene = hi.load_scene(path, **{k: v for k, v in params.items() if f"${k}" in path.read_text()})
-        has_path = path.with_name(path.stem + "_path.json").exists()
-        cameras = path_cameras(hi, path, rounds) if has_path else None
-        frames = (hi.render_sequence(scene, path_cameras(hi, path, 40), spp=1, layers=False) if has_path
-                  else [hi.render(scene, spp=1, seed=k, layers=False) for k in range(12)])
-        all_ms = statistics.median(f.stats.times_ms["trace"] for f in frames[2:])
+        ready = turn_scene(str(path), params, turn_poses(args.frames, WARM, args.block))
+        scene, cameras, all_ms = ready.scene, ready.cameras, ready.all_candidates_trace_ms
         for fraction in args.budgets:
             budget = fraction * all_ms
             times = frames_in_turn(scene, {"before": {"budget_ms": budget}, "after": {"budget_ms": budget}},
