@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Stop 56's device runs, from the repository root on a warm machine, after
+# `bash docs/results/gpu/issue10/stop31/extras.sh 3`, `… 1`, `… 2` (scenes, Open Image Denoise),
+# with .device carried (made by `bash docs/results/gpu/issue10/stop45/carries.sh`).
+#   bash docs/results/gpu/issue10/stop56/run.sh flight SCENE...   # flight_ab.py: budgeted frames in flight
+#     against one at a time and against the RT baseline, in turn, at 25 / 50 / 75 %
+#   N=2 bash docs/results/gpu/issue10/stop56/run.sh budget        # scripts/budget_benchmark.py N times in a row
+#     (stop 54's mode: item 4 on the 226 objects' camera path; since stop 56 also by blocks)
+source docs/results/gpu/issue10/stop31/env.sh
+mkdir -p $OUT; T0=$SECONDS
+mode=$1; shift
+case $mode in
+  flight) timeout $((590 - SECONDS + T0)) python3 docs/results/gpu/issue10/stop56/flight_ab.py "$@" --variant cuda_ad_rgb \
+            $D --frames ${FRAMES:-40} 2>&1 | grep -v "^\s" | tee $OUT/flight${RUN:-}.txt
+          echo "rc=${PIPESTATUS[0]} after $((SECONDS - T0)) s" ;;
+  budget) bash docs/results/gpu/issue10/stop54/run.sh budget  # the same runs; by blocks too since stop 56
+          grep -h "^The same by blocks" $OUT/budget${RUN:-}_*.md ;;
+  *) echo "unknown mode $mode" >&2; exit 2 ;;
+esac
