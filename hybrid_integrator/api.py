@@ -12,7 +12,7 @@ from .errors import HybridError
 from .objects import scene_objects
 from .pipeline import HybridSettings
 from .primary import camera_rays, primary_hits, resolve_outline, visibility_buffer
-from .raster.camera import RasterCamera, camera_pose, resolve_sensor, transform_matrix
+from .raster.camera import RasterCamera, camera_pose, place_sensor, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
 from .raster.visibility import Rasterizer, resolve_method
 
@@ -146,8 +146,10 @@ def render_sequence(scene: mi.Scene, cameras, spp: int = 1, seed: int = 0, senso
 def posed(sensor: mi.Sensor):
     """A camera path's poses for ``sensor``: yields ``place(matrix)``, which sets the sensor's
     ``to_world`` to a 4×4 pose (``raster.camera.camera_pose``'s) unless it already stands there (a
-    still camera needs no update: its Dr.Jit variables, and the frame's camera, stay the same);
-    the sensor's own pose is restored on leaving."""
+    still camera needs no update: its Dr.Jit variables, and the frame's camera, stay the same),
+    without waiting for the frame before (``raster.camera.place_sensor``: with two frames in
+    flight, Mitsuba's ``params.update()`` waited for all of it); the sensor's own pose is restored
+    on leaving, through ``params.update()``."""
     params = mi.traverse(sensor)
     original = mi.ScalarTransform4f(transform_matrix(params["to_world"]))
     current = None
@@ -155,8 +157,7 @@ def posed(sensor: mi.Sensor):
     def place(matrix: np.ndarray) -> None:
         nonlocal current
         if current is None or not np.array_equal(matrix, current):
-            params["to_world"] = mi.ScalarTransform4f(matrix)
-            params.update()
+            place_sensor(sensor, matrix)
             current = matrix
     try:
         yield place

@@ -64,21 +64,19 @@ class FrameRenderer:
         self.job = job
         self.scene = hi.load_scene(job.scene, **job.params)
         self.integrator = hi.api._integrator(dict(job.properties))
-        self.params = mi.traverse(self.scene.sensors()[0])
+        self.sensor = self.scene.sensors()[0]
 
     def render(self, index: int, camera: list, next_camera: list | None = None) -> int:
         """Render frame ``index`` from ``camera`` (a 4×4 to_world) and write it; a frame already on
         disk is skipped. ``next_camera``: the pose of the frame this renderer renders next, whose
         raster pass the frame draws ahead (``raster_ahead``). Returns ``index``."""
-        import mitsuba as mi
-
         import hybrid_integrator as hi
+        from hybrid_integrator.raster.camera import camera_pose, place_sensor
 
         out = Path(self.job.out_dir)
         if frame_done(out, index):
             return index
-        self.params["to_world"] = mi.ScalarTransform4f(np.asarray(camera, dtype=np.float64))
-        self.params.update()
+        place_sensor(self.sensor, camera_pose(camera))  # as api.posed moves it: without waiting for the device
         result = self.integrator.render_result(self.scene, seed=self.job.seed + index, spp=self.job.spp,
                                                next_camera=next_camera)
         # its statistics complete before they are written (``frames_in_flight=2``: inflight.py); writing

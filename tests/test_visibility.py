@@ -332,3 +332,48 @@ def test_relative_clip_is_the_shifted_projection_around_the_eye():
             expected[:, 3] = clip @ np.r_[origin.astype(np.float64), 1.0]
             assert np.array_equal(camera.clip_matrix((ox, oy)).astype(np.float32), clip.astype(np.float32))
             assert np.array_equal(relative.astype(np.float32), expected.astype(np.float32))
+
+
+def test_place_sensor_moves_the_camera_as_params_update_does_without_reading_back():
+    """``raster.camera.place_sensor`` (``api.posed``'s move, stop 56) sets a perspective sensor's
+    ``to_world`` without Mitsuba's ``parameters_changed``, whose read-back of the transform waits
+    for the device: the sensor then samples the camera rays it samples after ``params.update()``
+    (bit for bit), the raster camera built from it equals one built
+    from scratch (which reads the transform back), a pose that scales is refused as Mitsuba
+    refuses it, and ``posed`` leaves the sensor at its own pose, its host copy refreshed."""
+    import hybrid_integrator as hi
+    from hybrid_integrator.api import posed
+    from hybrid_integrator.raster import camera as cam
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    sensor = scene.sensors()[0]
+    params = mi.traverse(sensor)
+    start = cam.transform_matrix(params["to_world"])
+    bbox = sensor.bbox()
+    origin, target = start[:3, 3], start[:3, 3] + start[:3, 2]
+    poses = [cam.camera_pose(c) for c in hi.camera_path([(origin, target), (origin + [0.5, 0.2, 0.0], target)], 5)]
+    samples = mi.Point2f(np.linspace(0.0, 1.0, 7, dtype=np.float32), np.linspace(1.0, 0.0, 7, dtype=np.float32))
+
+    def rays() -> np.ndarray:  # the sensor's camera rays through fixed film positions
+        ray, _ = sensor.sample_ray(0.0, 0.5, samples, mi.Point2f(0.5))
+        return np.concatenate([np.array(ray.o), np.array(ray.d), np.array(ray.maxt)[None]])
+
+    with posed(sensor) as place:
+        for pose in poses[1:]:
+            place(pose)
+            placed = cam.RasterCamera.from_sensor(sensor)
+            moved = rays()
+            kept = dict(cam._CAMERAS)
+            cam._CAMERAS.clear()
+            fresh = cam.RasterCamera.from_sensor(sensor)
+            cam._CAMERAS.update(kept)
+            assert np.array_equal(placed.world_to_clip, fresh.world_to_clip) and np.array_equal(placed.eye, fresh.eye)
+            assert np.allclose(cam.transform_matrix(mi.traverse(sensor)["to_world"]), pose)
+            other = mi.traverse(sensor)
+            other["to_world"] = mi.ScalarTransform4f(pose)
+            other.update()
+            assert np.array_equal(moved, rays())
+        with pytest.raises(hi.HybridError, match="scale"):
+            place(poses[1] @ np.diag([2.0, 2.0, 2.0, 1.0]))
+    assert np.array_equal(cam.transform_matrix(mi.traverse(sensor)["to_world"]), start)
+    assert np.allclose(np.array(sensor.bbox().min), np.array(bbox.min))

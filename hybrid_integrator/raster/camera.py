@@ -41,6 +41,9 @@ class _Kept:
     params: mi.SceneParameters
     key: tuple | None = None
     values: list | None = None  # copies of the parameters of ``key``: they keep its indices in use
+    #: the ``to_world`` set by :func:`place_sensor` and its matrix on the host: a camera built while
+    #: the sensor holds it reads no transform back (the variable held keeps its indices in use)
+    placed: tuple | None = None
     camera: "RasterCamera | None" = None
     projection: tuple | None = None  # (camera_to_sample, ppx, ppy) of ``key``'s intrinsics (its first part)
 
@@ -48,6 +51,49 @@ class _Kept:
 #: per sensor (by ``id``), the oldest first
 _CAMERAS: dict[int, _Kept] = {}
 _CAMERAS_KEPT = 16
+
+
+def _kept(sensor: mi.Sensor) -> _Kept:
+    """What is kept for ``sensor`` (:class:`_Kept`), made on first use."""
+    kept = _CAMERAS.get(id(sensor))
+    if kept is None:
+        kept = _CAMERAS[id(sensor)] = _Kept(sensor, mi.traverse(sensor))
+        while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
+            del _CAMERAS[next(iter(_CAMERAS))]
+    return kept
+
+
+def place_sensor(sensor: mi.Sensor, matrix: np.ndarray) -> None:
+    """Set ``sensor``'s ``to_world`` to ``matrix`` (a 4×4 pose, :func:`camera_pose`'s) without
+    waiting for the device.
+
+    ``mi.traverse`` and ``params.update()`` would: Mitsuba's ``Endpoint::parameters_changed``
+    refreshes the sensor's host copy of the transform from the new value (``m_to_world =
+    m_to_world.value()``, a read-back), which waits for all the work queued on the device. Between
+    the frames of a camera path with two frames in flight that is the whole frame before: the H200
+    waited 10.4 ms for a 9.9 ms kernel, and took 0.63-0.64 ms even with nothing queued
+    (docs/results/gpu/issue10/stop56, ``pose_wait.py``). A ``perspective`` sensor's other state does
+    not depend on ``to_world`` (``update_camera_transforms`` reads the film and the field of view),
+    so here the transform is made on the host, moved to the device as an opaque variable (what
+    ``parameters_changed`` would make of it: ``dr::make_opaque``) and written into the sensor, and
+    ``parameters_changed`` is not called. The camera of the next frame takes ``matrix`` as it is,
+    with nothing read back (:meth:`RasterCamera.from_sensor`). Mitsuba's own check is made here:
+    scale factors are not allowed in a camera's ``to_world``. Left stale is the sensor's host copy
+    of the transform, which only its ``bbox()`` reads; ``api.posed`` restores the sensor's pose
+    with ``params.update()``, which refreshes it. Other sensor types take ``params.update()``."""
+    kept = _kept(sensor)
+    transform = mi.ScalarTransform4f(matrix)
+    if sensor.class_name() != "PerspectiveCamera":
+        kept.params["to_world"] = transform
+        kept.params.update()
+        return
+    if transform.has_scale():
+        raise HybridError(f"camera pose {np.asarray(matrix).tolist()} has scale factors: a camera's to_world must "
+                          "not scale (Mitsuba's rule)")
+    value = type(kept.params["to_world"])(transform)
+    dr.make_opaque(value)
+    kept.params["to_world"] = value
+    kept.placed = (value, np.asarray(matrix, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -87,11 +133,7 @@ class RasterCamera:
             raise UnsupportedSceneError(
                 f"film crop window (offset {tuple(crop_offset)}, size {tuple(crop_size)} of "
                 f"{tuple(size)}) is not supported: render the full film")
-        kept = _CAMERAS.get(id(sensor))
-        if kept is None:
-            kept = _CAMERAS[id(sensor)] = _Kept(sensor, mi.traverse(sensor))
-            while len(_CAMERAS) > _CAMERAS_KEPT:  # the oldest first (dicts keep insertion order)
-                del _CAMERAS[next(iter(_CAMERAS))]
+        kept = _kept(sensor)
         params = kept.params
         orthographic = kind == "OrthographicCamera"
         names = ("to_world",) if orthographic else ("x_fov", "principal_point_offset_x", "principal_point_offset_y",
@@ -109,7 +151,8 @@ class RasterCamera:
         if kept.key == key:
             return kept.camera
         values = [type(v)(v) for v in live]
-        camera_to_world = transform_matrix(values[-1])
+        placed = kept.placed is not None and tuple(dr.detail.collect_indices(kept.placed[0])) == key[1]
+        camera_to_world = kept.placed[1] if placed else transform_matrix(values[-1])
         if kept.key is None or kept.key[0] != intrinsics:
             # the projection on the host (the scalar variant's: the JIT one would launch a kernel
             # and wait for it on the GPU), in float32 as Mitsuba's sensor makes it
