@@ -4,6 +4,9 @@
 # with .device carried (made by `bash docs/results/gpu/issue10/stop45/carries.sh`).
 #   bash docs/results/gpu/issue10/stop56/run.sh flight SCENE...   # flight_ab.py: budgeted frames in flight
 #     against one at a time and against the RT baseline, in turn, at 25 / 50 / 75 %
+#   bash docs/results/gpu/issue10/stop56/run.sh pose [--size N]    # pose_wait.py: does moving the sensor wait for the GPU?
+#   bash docs/results/gpu/issue10/stop56/run.sh wall SCENE...      # path_wall.py: wall ms per frame along a camera path,
+#     the sensor moved by params.update() or place_sensor, one frame at a time or two in flight
 #   N=2 bash docs/results/gpu/issue10/stop56/run.sh budget        # scripts/budget_benchmark.py N times in a row
 #     (stop 54's mode: item 4 on the 226 objects' camera path; since stop 56 also by blocks)
 source docs/results/gpu/issue10/stop31/env.sh
@@ -15,5 +18,9 @@ case $mode in
           echo "rc=${PIPESTATUS[0]} after $((SECONDS - T0)) s" ;;
   budget) bash docs/results/gpu/issue10/stop54/run.sh budget  # the same runs; by blocks too since stop 56
           grep -h "^The same by blocks" $OUT/budget${RUN:-}_*.md ;;
+  pose) python3 docs/results/gpu/issue10/stop56/pose_wait.py --variant cuda_ad_rgb "$@" 2>&1 | grep -v "^\s" \
+          | tee $OUT/pose${RUN:-}.txt ;;
+  wall) timeout $((590 - SECONDS + T0)) python3 docs/results/gpu/issue10/stop56/path_wall.py "$@" --variant cuda_ad_rgb \
+          $D --frames ${FRAMES:-40} 2>&1 | grep -v "^\s" | tee $OUT/wall${RUN:-}.txt ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
