@@ -9,7 +9,11 @@ candidates, denoised, 1 spp), each one frame at a time and two in flight, each w
 moved the old way (``update``) and the new (``place``), render the path in turn, ``--blocks``
 blocks of ``--frames`` frames each after a warm-up. A block's wall time runs from its first call
 to the synchronization after its last frame's times are read (``render_sequence`` reads them),
-the pose sets between frames included. Prints per side the median wall ms per frame of the blocks.
+the pose sets between frames included. With ``--budgets`` (fractions of the all-candidates trace
+time, ``bench.turn_scene``), the budgeted hybrid too, one at a time and two in flight, the sensor
+moved the new way (a budget renders one frame at a time whatever ``frames_in_flight`` says, unless
+``diffs/budget_in_flight.diff`` is applied). Prints per side the median wall ms per frame of the
+blocks.
 
     python3 docs/results/gpu/issue10/stop56/path_wall.py scenes/many_objects.xml --variant cuda_ad_rgb -D resx=1280 -D resy=720
 """
@@ -22,7 +26,7 @@ import time
 def main() -> None:
     from hybrid_integrator.bench import turn_arguments
 
-    parser = turn_arguments(__doc__.splitlines()[0])
+    parser = turn_arguments(__doc__.splitlines()[0], budgets=())
     parser.add_argument("--blocks", type=int, default=3)
     args = parser.parse_args()
 
@@ -32,7 +36,7 @@ def main() -> None:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator import api
-    from hybrid_integrator.bench import load_bench_scene, path_cameras
+    from hybrid_integrator.bench import turn_scene
 
     placed = api.place_sensor
 
@@ -43,10 +47,12 @@ def main() -> None:
 
     hi.register()
     for path in args.scenes:
-        scene, name = load_bench_scene(str(path), dict(args.defines))
-        cameras = path_cameras(path, args.frames)
+        ready = turn_scene(str(path), dict(args.defines), args.frames)
+        scene, name, cameras = ready.scene, ready.name, ready.cameras
         sides = {(p, n, how): dict(primary=p, frames_in_flight=n)
                  for p in ("raster", "raytrace") for n in (1, 2) for how in ("update", "place")}
+        sides |= {(f"{b:.0%}", n, "place"): dict(budget_ms=b * ready.all_candidates_trace_ms, frames_in_flight=n)
+                  for b in args.budgets for n in (1, 2)}
         wall = {k: [] for k in sides}
         for block in range(args.blocks + 1):  # the first: warm-up
             for key, props in sides.items():
