@@ -7,6 +7,7 @@
 #   bash docs/results/gpu/issue10/stop56/run.sh pose [--size N]    # pose_wait.py: does moving the sensor wait for the GPU?
 #   bash docs/results/gpu/issue10/stop56/run.sh wall SCENE...      # path_wall.py: wall ms per frame along a camera path,
 #     the sensor moved by params.update() or place_sensor, one frame at a time or two in flight
+#   bash docs/results/gpu/issue10/stop56/run.sh sync [--path]      # sync_sites.py: where a frame's host waits for the device
 #   N=2 bash docs/results/gpu/issue10/stop56/run.sh budget        # scripts/budget_benchmark.py N times in a row
 #     (stop 54's mode: item 4 on the 226 objects' camera path; since stop 56 also by blocks)
 source docs/results/gpu/issue10/stop31/env.sh
@@ -22,5 +23,7 @@ case $mode in
           | tee $OUT/pose${RUN:-}.txt ;;
   wall) timeout $((590 - SECONDS + T0)) python3 docs/results/gpu/issue10/stop56/path_wall.py "$@" --variant cuda_ad_rgb \
           $D --frames ${FRAMES:-40} 2>&1 | grep -v "^\s" | tee $OUT/wall${RUN:-}.txt ;;
+  sync) python3 docs/results/gpu/issue10/stop56/sync_sites.py scenes/many_objects.xml --variant cuda_ad_rgb $D \
+          --frames 10 "$@" 2>&1 | grep "queued\|^  [A-Za-z0-9]" | tee -a $OUT/sync_sites.txt ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
