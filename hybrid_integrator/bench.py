@@ -253,13 +253,13 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
         for k in range(rounds):
             for name in order:
                 for j in range(block):
-                    upcoming = None
+                    at, upcoming = k * block + j, None  # the frame's pose on the path
                     if poses is not None:
-                        place(poses[k * block + j])
-                        upcoming = poses[k * block + j + 1] if k * block + j + 1 < len(poses) else None
+                        place(poses[at])
+                        upcoming = poses[at + 1] if at + 1 < len(poses) else None
                     if before is not None:
                         before(name)
-                    result = integrators[name].render_result(scene, seed=seed + k * block + j, spp=spp, layers=False,
+                    result = integrators[name].render_result(scene, seed=seed + at, spp=spp, layers=False,
                                                              next_camera=upcoming)
                     if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
                         times[name].append(result.stats.times_ms)

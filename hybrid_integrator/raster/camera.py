@@ -41,8 +41,9 @@ class _Kept:
     params: mi.SceneParameters
     key: tuple | None = None
     values: list | None = None  # copies of the parameters of ``key``: they keep its indices in use
-    #: the ``to_world`` set by :func:`place_sensor` and its matrix on the host: a camera built while
-    #: the sensor holds it reads no transform back (the variable held keeps its indices in use)
+    #: the ``to_world`` set by :func:`place_sensor`, its variable indices and its matrix on the host:
+    #: a camera built while the sensor holds it reads no transform back (the variable held keeps its
+    #: indices in use)
     placed: tuple | None = None
     camera: "RasterCamera | None" = None
     projection: tuple | None = None  # (camera_to_sample, ppx, ppy) of ``key``'s intrinsics (its first part)
@@ -93,7 +94,7 @@ def place_sensor(sensor: mi.Sensor, matrix: np.ndarray) -> None:
     value = type(kept.params["to_world"])(transform)
     dr.make_opaque(value)
     kept.params["to_world"] = value
-    kept.placed = (value, np.asarray(matrix, dtype=np.float64))
+    kept.placed = (value, tuple(dr.detail.collect_indices(value)), np.asarray(matrix, dtype=np.float64))
 
 
 @dataclass(frozen=True)
@@ -151,8 +152,8 @@ class RasterCamera:
         if kept.key == key:
             return kept.camera
         values = [type(v)(v) for v in live]
-        placed = kept.placed is not None and tuple(dr.detail.collect_indices(kept.placed[0])) == key[1]
-        camera_to_world = kept.placed[1] if placed else transform_matrix(values[-1])
+        placed = kept.placed is not None and kept.placed[1] == key[1]
+        camera_to_world = kept.placed[2] if placed else transform_matrix(values[-1])
         if kept.key is None or kept.key[0] != intrinsics:
             # the projection on the host (the scalar variant's: the JIT one would launch a kernel
             # and wait for it on the GPU), in float32 as Mitsuba's sensor makes it
