@@ -48,6 +48,10 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--blend", type=float, help="composition weight of the ray-traced layer, in [0, 1]")
     g.add_argument("--max-depth", dest="max_depth", type=int, help="as Mitsuba's path (-1: unlimited)")
     g.add_argument("--rr-depth", dest="rr_depth", type=int, help="as Mitsuba's path: the depth where Russian roulette starts")
+    g.add_argument("--rr-tail-depth", dest="rr_tail_depth", type=int,
+                   help="from this depth on, Russian roulette continues a path with probability at most "
+                        "--rr-tail-prob (default 16; -1: never, as path)")
+    g.add_argument("--rr-tail-prob", dest="rr_tail_prob", type=float, help="that probability (default 0.5)")
     g.add_argument("--secondary-spp", dest="secondary_spp", type=int,
                    help="paths traced from each traced pixel's primary hit, in one launch (default: 1)")
     g.add_argument("--budget-ms", dest="budget_ms", type=float, help="frame-time budget for ray tracing (0: unlimited)")
@@ -68,7 +72,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
 
 
 def _properties(args) -> dict:
-    names = ("primary", "raster", "refine", "outline", "effects", "candidates", "blend", "max_depth", "rr_depth", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
+    names = ("primary", "raster", "refine", "outline", "effects", "candidates", "blend", "max_depth", "rr_depth", "rr_tail_depth", "rr_tail_prob", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
              "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead", "stage_times")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 

@@ -73,7 +73,7 @@ from .raster.visibility import Rasterizer, TriangleTables, resolve_method
 from .selection import DEFAULT_EFFECTS, Selection, parse_effects, refracts, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
-from .trace import RAY_KINDS, LaneHits, LanePrimary, trace_effects
+from .trace import RAY_KINDS, LaneHits, RouletteCap, LanePrimary, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
 #: where the raster's refined pixels (primary.py: silhouettes, proxies, misses) are traced
@@ -134,6 +134,8 @@ class HybridSettings:
 
     max_depth: int = -1
     rr_depth: int = 5
+    rr_tail_depth: int = 16  # from this depth on, Russian roulette goes on with probability <= rr_tail_prob
+    rr_tail_prob: float = 0.5  # (trace.RouletteCap; -1: never, as path)
     hide_emitters: bool = False
     primary: str = "raster"
     raster: str = "auto"
@@ -234,6 +236,11 @@ class HybridSettings:
             raise HybridError(f"max_depth={self.max_depth} must be -1 (unlimited) or >= 0")
         if self.rr_depth < 1:
             raise HybridError(f"rr_depth={self.rr_depth} must be >= 1")
+        if self.rr_tail_depth < -1:
+            raise HybridError(f"rr_tail_depth={self.rr_tail_depth} must be -1 (no tail cap, as path) or >= 0")
+        if not (math.isfinite(self.rr_tail_prob) and 0.0 < self.rr_tail_prob <= 1.0):
+            raise HybridError(f"rr_tail_prob={self.rr_tail_prob} must lie in (0, 1]: the largest probability with which "
+                              "Russian roulette continues a path from rr_tail_depth on")
         if self.secondary_spp < 1:
             raise HybridError(f"secondary_spp={self.secondary_spp} must be >= 1 (paths traced from each primary hit)")
 
@@ -414,6 +421,7 @@ class PassStatic:
     configs: tuple[tuple[str, ...], ...]  # the effect sets the candidates deserve
     max_depth: int
     rr_depth: int
+    roulette: RouletteCap
     hide_emitters: bool
     blend: float
     targets: tuple[str, ...]  # G-buffer targets: the lighting's inputs and the AOVs asked for
@@ -589,7 +597,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
                              seed=seed, obj=hits.object, n_objects=static.n_objects,
                              first_effects=static.configs, first_config=config,
                              keep_direct=bool(static.modelled), paths=static.secondary_spp,
-                             long=long if static.long_first else None, primary=primary, primary_first=refined)
+                             long=long if static.long_first else None, primary=primary, primary_first=refined,
+                             roulette=static.roulette)
 
     def lit(hits: PrimaryHits, *kept) -> tuple[PixelTerms, mi.Bool]:
         """2. deferred lighting: the raster layer (§3.1, Fig. 1g); 3. selection (§4)"""
@@ -950,6 +959,7 @@ class HybridRenderer:
             outline=resolve_outline(settings.outline, resolve_method(settings.raster)),
             effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
+            roulette=RouletteCap(settings.rr_tail_depth, settings.rr_tail_prob),
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),
             targets=tuple(dict.fromkeys(tuple(INPUTS) + aovs)), aovs=aovs, layers=layers,
             has_alpha=mi.has_flag(film.flags(), mi.FilmFlags.Alpha),

@@ -7,10 +7,13 @@ the paths are those of Mitsuba's ``path`` integrator, restricted to the enabled 
   shadow ray when ``shadow`` is enabled, unshadowed otherwise;
 - the path continues only by BSDF sampling of the lobes the enabled effects follow
   (``selection.lobes``: reflection, refraction, indirect), up to ``max_depth`` vertices, with
-  Russian roulette from ``rr_depth`` on, exactly as ``path``;
+  Russian roulette from ``rr_depth`` on, as ``path``, but for a lower cap on the probability
+  of going on from depth ``rr_tail_depth`` (:class:`RouletteCap`: the GPU's tail of long glass
+  paths);
 - multiple importance sampling joins the two estimators where both can reach a light: lobes that
   are followed are MIS-weighted against emitter sampling, lobes that are not are left entirely to
-  emitter sampling. With all four effects every lobe is followed and the estimator is ``path``'s.
+  emitter sampling. With all four effects every lobe is followed and the estimator is ``path``'s
+  (with ``rr_tail_depth=-1``, vertex for vertex; else the same expectation).
 
 Only the selected pixels are traced: they are compacted on the device (``selection.compact``)
 before the path loop, so the cost follows the selection, and the rays are counted by kind and
@@ -23,6 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import drjit as dr
 import mitsuba as mi
@@ -30,6 +34,36 @@ from .heuristic import DeviceSums
 from .selection import EFFECTS as RAY_KINDS  # one kind of secondary ray per effect
 from .selection import compact
 from .selection import lobes as followed_lobes
+
+
+class RouletteCap(NamedTuple):
+    """The largest probability with which Russian roulette continues a path: ``path``'s 0.95, and
+    ``tail_prob`` from path depth ``tail_depth`` on (-1: never; the integrator's ``rr_tail_depth``
+    and ``rr_tail_prob``).
+
+    Past ``rr_depth`` a path continues with probability min(max throughput · η², cap). Through
+    glass the throughput stays near 1, so with ``path``'s cap of 0.95 a path's length past
+    ``rr_depth`` is geometric with mean 20, and the longest of N paths grows with 20 · ln N. On a
+    GPU a launch lasts until its slowest lanes are done: a frame's trace ended in a tail of a few
+    lanes bouncing on through glass, hundreds of vertices deep, while the rest of the GPU idled.
+    From depth 16 (deeper than any bench scene's own ``max_depth``) a cap of 0.5 ends that tail
+    within a few more vertices. The estimator stays unbiased (a surviving path is weighted by
+    1 / probability); only the paths that deep gain variance. H200, 1280×720, the default frame
+    against the cap 0.95 everywhere, in turn: the showcase 1.11× faster (FLIP 0.0970 → 0.0971),
+    the Armadillo 1.04× (0.0310 → 0.0314, rel. MSE 0.0042 both), the 226 objects 1.03×, Sponza
+    1.00× (docs/results/gpu/issue10/stop57: ``rr_cap.py``)."""
+
+    tail_depth: int = -1
+    tail_prob: float = 0.5
+
+    #: ``path``'s cap
+    PROB = 0.95
+
+    def at(self, depth: mi.UInt32):
+        """The cap at a vertex of ``depth`` (counted as ``rr_depth`` is)."""
+        if self.tail_depth < 0 or self.tail_prob >= self.PROB:
+            return self.PROB
+        return dr.select(depth >= self.tail_depth, mi.Float(self.tail_prob), mi.Float(self.PROB))
 
 
 @dataclass
@@ -105,7 +139,8 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
                   first_config: mi.UInt32 | None = None,
                   keep_direct: bool = False, paths: int = 1,
                   long: mi.Bool | None = None, primary: LanePrimary | None = None,
-                  primary_first: mi.Bool | None = None) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
+                  primary_first: mi.Bool | None = None,
+                  roulette: RouletteCap = RouletteCap()) -> tuple[mi.Color3f, mi.Color3f | None, TraceCounts]:
     """Radiance of the traced pixels (zero elsewhere) for one pass; ``ray``/``si`` are the
     primary rays and hits of every pixel, ``seed`` (a 1-element array) distinguishes passes.
     With ``keep_direct``, also returns the light of each path's first vertex alone (its emission
@@ -163,7 +198,8 @@ def trace_effects(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, t
         key = mi.sample_tea_32(mi.UInt32(s), mi.UInt32(s >> 32))[0]
         rng.seed(mi.sample_tea_64(stream, key), mi.UInt64(stream))
         L, first_light, rays = _paths(scene, lanes.ray, lanes.si, rng, lanes.config if len(first) > 1 else None,
-                                      lanes.traced, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters)
+                                      lanes.traced, first, Lobes.of(effects), max_depth, rr_depth, hide_emitters,
+                                      roulette)
     else:  # no object deserves any effect: the lanes are there for their primary hits alone
         L, first_light, rays = dr.zeros(mi.Color3f, n * paths), None, [dr.zeros(mi.UInt32, n * paths) for _ in RAY_KINDS]
     first_light = first_light if keep_direct else None  # not written by the kernel where no one reads it
@@ -224,7 +260,7 @@ def _lanes(pairs: list) -> mi.Bool | bool:
 
 
 def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt32 | None, depth_limit: int,
-            rr_depth: int) -> None:
+            rr_depth: int, roulette: RouletteCap) -> None:
     """One path vertex, as Mitsuba's ``path``: emitter sampling (a shadow ray or unshadowed light),
     then BSDF sampling of the followed lobes, the next intersection and the light it reaches,
     MIS-weighted. Lane ``i`` does what ``lobes[config[i]]`` says (``config`` None: ``lobes[0]``
@@ -269,7 +305,7 @@ def _vertex(scene: mi.Scene, p: _Path, lobes: tuple[Lobes, ...], config: mi.UInt
         active_next &= followed
     p.beta *= weight
     p.eta *= bs.eta
-    rr_prob = dr.minimum(dr.max(p.beta) * p.eta * p.eta, 0.95)
+    rr_prob = dr.minimum(dr.max(p.beta) * p.eta * p.eta, roulette.at(p.depth + 1))
     rr_active = p.depth + 1 >= rr_depth
     p.beta[rr_active] *= dr.rcp(rr_prob)
     active_next &= (bs.pdf > 0) & (dr.max(p.beta) > 0) & (~rr_active | (p.rng.next_float32() < rr_prob))
@@ -341,7 +377,8 @@ def _emitted(scene: mi.Scene, prev: mi.SurfaceInteraction3f, si: mi.SurfaceInter
 
 @dr.syntax
 def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.PCG32, config: mi.UInt32 | None,
-           active: mi.Bool, first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool):
+           active: mi.Bool, first: tuple[Lobes, ...], rest: Lobes, max_depth: int, rr_depth: int, hide_emitters: bool,
+           roulette: RouletteCap):
     """The paths from the primary hits ``si`` of the ``active`` lanes: the primary vertex with its
     object's own lobes (``first[config]``), then one symbolic Dr.Jit loop (as Mitsuba's ``path``)
     with the integrator's; when the primary vertex's lobes are the loop's (every candidate with
@@ -358,12 +395,12 @@ def _paths(scene: mi.Scene, ray: mi.Ray3f, si: mi.SurfaceInteraction3f, rng: mi.
     # code in the kernel (the same paths, the same random numbers; showcase trace 6.7 -> 6.0 ms)
     first_light = None
     if len(first) > 1 or first[0].key() != rest.key():
-        _vertex(scene, p, first, config, depth_limit, rr_depth)
+        _vertex(scene, p, first, config, depth_limit, rr_depth, roulette)
         first_light = mi.Color3f(p.L)
     # the loop's state variables, one by one, as dr.while_loop tracks them
     ray, si, rng, L, beta, eta, depth, active, rays = p.ray, p.si, p.rng, p.L, p.beta, p.eta, p.depth, p.active, p.rays
     while active:
         q = _Path(ray=ray, si=si, rng=rng, L=L, beta=beta, eta=eta, depth=depth, active=active, rays=list(rays))
-        _vertex(scene, q, (rest,), None, depth_limit, rr_depth)
+        _vertex(scene, q, (rest,), None, depth_limit, rr_depth, roulette)
         ray, si, rng, L, beta, eta, depth, active, rays = q.ray, q.si, q.rng, q.L, q.beta, q.eta, q.depth, q.active, q.rays
     return L, first_light, rays

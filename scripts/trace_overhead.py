@@ -13,7 +13,8 @@ GPU). A least-squares line through (N, time) gives the fixed part and the cost p
 the chart draws both, and beside them a call that traces no pixel (``no_pixel``: the fixed part
 measured, not extrapolated). On a GPU a launch lasts as long as its longest path, while the lanes
 are too few to fill the GPU: the longest of N paths grows with ln N (Russian roulette keeps a
-glass path with probability up to 0.95 per bounce), and a path's latency depends on its
+glass path with probability up to 0.95 per bounce; since stop 57 0.5 from depth 16 on, the
+integrator's ``rr_tail_depth``/``rr_tail_prob``, which ``--rr-tail-depth -1`` turns off), and a path's latency depends on its
 materials (a vertex with a shadow ray costs several glass bounces; docs/results/gpu/issue10/stop40);
 so a second fit, c0 + c1 ln N + c2 N, is reported and drawn beside the line (the x axis is
 logarithmic past 1). Then, for scale, the
@@ -91,7 +92,7 @@ class TraceCall:
     the frame's device pass is (module docstring), called by :meth:`__call__` for a mask of the
     pixels to trace."""
 
-    def __init__(self, scene, resx: int, resy: int, max_depth: int):
+    def __init__(self, scene, resx: int, resy: int, max_depth: int, roulette=None):
         import drjit as dr
         import mitsuba as mi
         import numpy as np
@@ -101,9 +102,12 @@ class TraceCall:
         from hybrid_integrator.frozen import FrozenScene, variable_handles
         from hybrid_integrator.primary import camera_rays, traced_hits
         from hybrid_integrator.selection import long_paths, refracts
-        from hybrid_integrator.trace import trace_effects
+        from hybrid_integrator.pipeline import HybridSettings
+        from hybrid_integrator.trace import RouletteCap, trace_effects
 
         self.n_objects = n_objects = len(hi.scene_objects(scene))
+        # Russian roulette's cap (trace.RouletteCap; None: the integrator's default)
+        self.roulette = roulette = roulette or RouletteCap(HybridSettings.rr_tail_depth, HybridSettings.rr_tail_prob)
         hits = traced_hits(scene, camera_rays(scene.sensors()[0], resx, resy, (0.5, 0.5)), rasterizer(scene).tables)
         dr.eval(hits.ray, hits.si, hits.valid, hits.object)
         self.hits, self.order = hits, np.nonzero(np.array(hits.valid))[0]
@@ -131,7 +135,7 @@ class TraceCall:
             for k, v in [*fields.items(), *((k, dr.reinterpret_array(mi.ShapePtr, i)) for k, i in zip(pointers, ids))]:
                 setattr(si, k, v)
             rt, _, counts = trace_effects(scene, ray, si, traced, effects, max_depth, 5, False, seed=seed, obj=obj,
-                                          n_objects=n_objects, long=long)
+                                          n_objects=n_objects, long=long, roulette=roulette)
             return rt, counts.per_object
 
         self.frozen = FrozenScene(scene).freeze(call)  # as the device pass is frozen (frozen.py)
@@ -165,6 +169,9 @@ def add_arguments(parser, repeats: int = 41) -> None:
     parser.add_argument("--max-depth", type=int, default=-1,
                         help="the paths' max_depth (default -1: unlimited, the integrator's default; "
                              "many_objects.xml's own integrator says 6)")
+    parser.add_argument("--rr-tail-depth", type=int, default=None,
+                        help="the integrator's rr_tail_depth (default: its default; -1: path's roulette)")
+    parser.add_argument("--rr-tail-prob", type=float, default=None, help="the integrator's rr_tail_prob (default: its default)")
 
 
 def main() -> None:
@@ -182,10 +189,15 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.pipeline import HybridSettings
     from hybrid_integrator.raster.context import machine
+    from hybrid_integrator.trace import RouletteCap
 
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
-    trace = TraceCall(scene, args.resx, args.resy, args.max_depth)
+    defaults = RouletteCap(HybridSettings.rr_tail_depth, HybridSettings.rr_tail_prob)
+    roulette = RouletteCap(*(default if given is None else given
+                             for given, default in zip((args.rr_tail_depth, args.rr_tail_prob), defaults)))
+    trace = TraceCall(scene, args.resx, args.resy, args.max_depth, roulette)
     n_objects, order, frozen = trace.n_objects, trace.order, trace.frozen
     counts = [n for n in (1, 10, 100, 1000, 10000, 100000) if n < len(order)] + [len(order)]
     masks = {n: trace.mask(order[:n]) for n in counts}
@@ -221,9 +233,10 @@ def main() -> None:
               "with_read_set_ms": timed(lambda: given(frozen.read or (), x1), args.repeats)[0],
               "without_scene_ms": timed(lambda: without(x1), args.repeats)[0]}
     report = {"command": f"python scripts/trace_overhead.py --variant {args.variant} --resx {args.resx} --resy {args.resy} "
-                         f"--repeats {args.repeats} --max-depth {args.max_depth}",
+                         f"--repeats {args.repeats} --max-depth {args.max_depth} --rr-tail-depth {roulette.tail_depth} "
+                         f"--rr-tail-prob {roulette.tail_prob}",
               "machine": machine(), "objects": n_objects, "shapes": len(scene.shapes()),
-              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "glass_first": trace.long is not None, "no_pixel": empty, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
+              "resolution": [args.resx, args.resy], "max_depth": args.max_depth, "roulette": roulette._asdict(), "glass_first": trace.long is not None, "no_pixel": empty, "rows": rows, "fit": fits, "fit_with_log_term": log_fits, "frozen_replay": replay,
               "scene_inputs": {"passed": frozen.inputs, "snapshot": len(snapshot),
                                "read_set": None if frozen.read is None else len(frozen.read),
                                "missed": frozen.missed}}
@@ -259,7 +272,7 @@ def _chart(path: Path, rows: list[dict], fits: dict, log_fits: dict, report: dic
     ax.set_xlabel("traced pixels N")
     ax.set_ylabel("ms per trace call")
     ax.set_title(f"trace call on {report['objects']} objects ({report['shapes']} shapes), max_depth "
-                 f"{report['max_depth']}, {report['machine']['variant']}", fontsize=9)
+                 f"{report['max_depth']}, roulette {report['roulette']}, {report['machine']['variant']}", fontsize=9)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -217,6 +217,24 @@ def test_all_effects_converge_to_mitsuba_path(name):
     assert rel_mse(hybrid, path_a) < 1.25 * noise, (rel_mse(hybrid, path_a), noise)
 
 
+def test_the_roulette_tail_cap_shortens_glass_paths_without_bias():
+    """From ``rr_tail_depth`` on, Russian roulette goes on with probability at most
+    ``rr_tail_prob`` (trace.RouletteCap): fewer secondary rays through the showcase's glass, the
+    same mean at unlimited depth; and where no path gets that deep, the same image."""
+    path, params = CONVERGENCE["showcase"]
+    scene = load(path, **params)
+    common = dict(spp=256, seed=3, max_depth=-1, denoise=False, effects="shadow,reflection,refraction,indirect")
+    uncapped = hi.render(scene, rr_tail_depth=-1, **common)
+    capped = hi.render(scene, rr_tail_depth=0, rr_tail_prob=0.3, **common)
+    assert capped.stats.secondary_rays < 0.97 * uncapped.stats.secondary_rays, \
+        (capped.stats.secondary_rays, uncapped.stats.secondary_rays)
+    assert abs(np.array(capped.image).mean() / np.array(uncapped.image).mean() - 1) < 0.02
+    shallow = dict(common, spp=4, max_depth=8)  # no vertex reaches depth 16, the default tail: the same paths
+    # (to the last bits the film's parallel splatting leaves to chance: ~3e-8 between two equal renders)
+    assert np.allclose(np.array(hi.render(scene, **shallow).image),
+                       np.array(hi.render(scene, rr_tail_depth=-1, **shallow).image), rtol=1e-5, atol=1e-6)
+
+
 def test_no_candidates_or_zero_blend_show_the_raster_layer():
     scene = load(DEFAULT_SCENE)
     for props in ({"candidates": ""}, {"blend": 0.0}):
@@ -381,6 +399,8 @@ def test_bad_properties_are_clear_errors():
              ({"outline": "edges"}, "outline='edges' is not one of"),
              ({"blend": 1.5}, r"blend=1.5 must lie in \[0, 1\]"), ({"budget_ms": -1.0}, "budget_ms=-1.0 is impossible"),
              ({"budget_ms": float("nan")}, "budget_ms=nan is impossible"), ({"max_depth": -3}, "max_depth=-3"),
+             ({"rr_tail_depth": -2}, r"rr_tail_depth=-2 must be -1 \(no tail cap"),
+             ({"rr_tail_prob": 0.0}, r"rr_tail_prob=0.0 must lie in \(0, 1\]"),
              ({"colour": 1}, "has no property 'colour'"),
              # typed like Mitsuba's own properties: "no" is not false, nor 2.5 a number of paths
              ({"denoise": "no"}, r"denoise='no' must be a boolean"),
