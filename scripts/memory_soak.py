@@ -62,6 +62,7 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
+    from hybrid_integrator.raster.camera import camera_pose
     from hybrid_integrator.raster.context import machine
 
     from hybrid_integrator.raster.interop import _Driver
@@ -79,17 +80,18 @@ def main() -> None:
     properties = {"budget_ms": args.budget_ms, "temporal": True}
     integrator = hi.api._integrator(dict(properties))
     samples, frame_ms = [], []
-    for k in tqdm(range(args.frames), desc="frames", unit="frame", mininterval=5):
-        sensor["to_world"] = cameras[k % len(cameras)]
-        sensor.update()
-        t = time.perf_counter()
-        result = integrator.render_result(scene, seed=k, spp=1, layers=False)
-        frame_ms.append((time.perf_counter() - t) * 1e3)
-        if k % args.every == 0 or k == args.frames - 1:
-            dr.sync_thread()
-            image = np.array(result.image)
-            samples.append({"frame": k, "rss_mb": rss_mb(), "gpu_mb": gpu_used_mb(gpu) if gpu else None,
-                            "finite": bool(np.isfinite(image).all()), "mean": float(image[..., :3].mean())})
+    poses = [camera_pose(c) for c in cameras]
+    with hi.api.posed(scene.sensors()[0]) as place:  # the sensor moved as render_sequence moves it
+        for k in tqdm(range(args.frames), desc="frames", unit="frame", mininterval=5):
+            place(poses[k % len(poses)])
+            t = time.perf_counter()
+            result = integrator.render_result(scene, seed=k, spp=1, layers=False)
+            frame_ms.append((time.perf_counter() - t) * 1e3)
+            if k % args.every == 0 or k == args.frames - 1:
+                dr.sync_thread()
+                image = np.array(result.image)
+                samples.append({"frame": k, "rss_mb": rss_mb(), "gpu_mb": gpu_used_mb(gpu) if gpu else None,
+                                "finite": bool(np.isfinite(image).all()), "mean": float(image[..., :3].mean())})
     warm = next(s for s in samples if s["frame"] >= min(args.warmup, args.frames - 1))
     last = samples[-1]
     growth = {key: (last[key] - warm[key]) / warm[key] for key in ("rss_mb", "gpu_mb") if warm[key]}
