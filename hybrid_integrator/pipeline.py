@@ -134,8 +134,10 @@ class HybridSettings:
 
     max_depth: int = -1
     rr_depth: int = 5
-    rr_tail_depth: int = 16  # from this depth on, Russian roulette goes on with probability <= rr_tail_prob
-    rr_tail_prob: float = 0.5  # (trace.RouletteCap; -1: never, as path)
+    #: from this depth on, Russian roulette goes on with probability at most ``rr_tail_prob``
+    #: (-1: never, ``path``'s roulette; ``trace.RouletteCap``)
+    rr_tail_depth: int = 16
+    rr_tail_prob: float = 0.5
     hide_emitters: bool = False
     primary: str = "raster"
     raster: str = "auto"

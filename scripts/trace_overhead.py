@@ -9,18 +9,20 @@ handles of their variables and their shape pointers as ids, since the device pas
 its hits itself, walks neither), and called for N = 1, 10, 100 … pixels and for every hit pixel.
 Per N: the median wall time of a call with the backend synchronized once (Dr.Jit's kernel history
 off), and the device time of its kernels (a second call with the history on: CUDA events on the
-GPU). A least-squares line through (N, time) gives the fixed part and the cost per pixel;
-the chart draws both, and beside them a call that traces no pixel (``no_pixel``: the fixed part
-measured, not extrapolated). On a GPU a launch lasts as long as its longest path, while the lanes
-are too few to fill the GPU: the longest of N paths grows with ln N (Russian roulette keeps a
-glass path with probability up to 0.95 per bounce; since stop 57 0.5 from depth 16 on, the
-integrator's ``rr_tail_depth``/``rr_tail_prob``, which ``--rr-tail-depth -1`` turns off), and a path's latency depends on its
-materials (a vertex with a shadow ray costs several glass bounces; docs/results/gpu/issue10/stop40);
-so a second fit, c0 + c1 ln N + c2 N, is reported and drawn beside the line (the x axis is
-logarithmic past 1). Then, for scale, the
-replay of a frozen function that does nothing but take the scene (``lambda scene, x: x + 1``), given the scene itself (Dr.Jit walks its objects and its
-registry), its variables (``frozen.FrozenScene``'s snapshot), those the trace call's recording
-reads (its read set, which the trace call takes) or nothing.
+GPU), every N (and a call that traces nothing) called in turn, round after round
+(``timed_in_turn``; one N after another until stop 57). A least-squares line through (N, time)
+gives the fixed part and the cost per pixel; the chart draws both, and beside them a call that
+traces no pixel (``no_pixel``: the fixed part measured, not extrapolated). On a GPU a launch lasts
+as long as its longest path, while the lanes are too few to fill the GPU: the longest of N paths
+grows with ln N (Russian roulette keeps a glass path with probability up to 0.95 per bounce; since
+stop 57 0.5 from depth 16 on, the integrator's ``rr_tail_depth``/``rr_tail_prob``, which
+``--rr-tail-depth -1`` turns off), and a path's latency depends on its materials (a vertex with a
+shadow ray costs several glass bounces; docs/results/gpu/issue10/stop40); so a second fit, c0 + c1
+ln N + c2 N, is reported and drawn beside the line (the x axis is logarithmic past 1). Then, for
+scale, the replay of a frozen function that does nothing but take the scene (``lambda scene, x: x +
+1``), given the scene itself (Dr.Jit walks its objects and its registry), its variables
+(``frozen.FrozenScene``'s snapshot), those the trace call's recording reads (its read set, which
+the trace call takes) or nothing.
 
     python scripts/trace_overhead.py -o docs/results/cpu/trace_overhead
     python3 scripts/trace_overhead.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/trace_overhead
@@ -205,12 +207,12 @@ def main() -> None:
     # launch over lanes that all stop at once), measured rather than extrapolated
     nothing = trace.mask([])
     for sweep in ("warm-up", "measured"):  # the first sweep lets clocks and caches settle
-        rows = []
-        for n in counts:
-            wall, device = timed(lambda: trace(masks[n]), args.repeats)
-            rows.append({"pixels": n, "wall_ms": wall, "device_ms": device})
-        wall, device = timed(lambda: trace(nothing), args.repeats)
-        empty = {"wall_ms": wall, "device_ms": device}
+        # every N and the call that traces nothing in turn, round after round: a drift of the host's
+        # speed, which moved the wall-time line's intercept by 0.1 ms between two runs of the rows
+        # one after another (docs/results/gpu/issue10/stop57), reaches every row alike
+        times = timed_in_turn([lambda n=n: trace(masks[n]) for n in counts] + [lambda: trace(nothing)], args.repeats)
+        rows = [{"pixels": n, "wall_ms": wall, "device_ms": device} for n, (wall, device) in zip(counts, times)]
+        empty = dict(zip(("wall_ms", "device_ms"), times[-1]))
         print(sweep, rows, "no pixel:", empty, flush=True)
     if args.launches:
         for row in rows:
