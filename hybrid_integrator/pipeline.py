@@ -73,7 +73,7 @@ from .raster.visibility import Rasterizer, TriangleTables, resolve_method
 from .selection import DEFAULT_EFFECTS, Selection, parse_effects, refracts, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
-from .trace import RAY_KINDS, LaneHits, RouletteCap, LanePrimary, trace_effects
+from .trace import RAY_KINDS, LaneHits, LanePrimary, RouletteCap, trace_effects
 
 PRIMARY_SOURCES = ("raster", "raytrace")
 #: where the raster's refined pixels (primary.py: silhouettes, proxies, misses) are traced
@@ -168,6 +168,11 @@ class HybridSettings:
     #: 0.19-0.26 for the hybrid before, stop 50).
     #: A budgeted frame times its stages whatever this says: its cost model learns the trace's time
     stage_times: bool = True
+
+    @property
+    def roulette(self) -> RouletteCap:
+        """Russian roulette's cap on going on (``rr_tail_depth``, ``rr_tail_prob``)."""
+        return RouletteCap(self.rr_tail_depth, self.rr_tail_prob)
 
     @property
     def in_flight(self) -> bool:
@@ -961,7 +966,7 @@ class HybridRenderer:
             outline=resolve_outline(settings.outline, resolve_method(settings.raster)),
             effects=settings.effects,
             configs=configs, max_depth=settings.max_depth, rr_depth=settings.rr_depth,
-            roulette=RouletteCap(settings.rr_tail_depth, settings.rr_tail_prob),
+            roulette=settings.roulette,
             hide_emitters=settings.hide_emitters, blend=float(settings.blend),
             targets=tuple(dict.fromkeys(tuple(INPUTS) + aovs)), aovs=aovs, layers=layers,
             has_alpha=mi.has_flag(film.flags(), mi.FilmFlags.Alpha),

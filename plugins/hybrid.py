@@ -12,8 +12,8 @@
         <float name="blend" value="1"/>                <!-- composition weight of the RT layer -->
         <integer name="max_depth" value="-1"/>         <!-- as Mitsuba's path; -1 = unlimited -->
         <integer name="rr_depth" value="5"/>
-        <integer name="rr_tail_depth" value="16"/>     <!-- from this depth, roulette goes on with p <= rr_tail_prob -->
-        <float name="rr_tail_prob" value="0.5"/>        <!-- (-1: never, as path) -->
+        <integer name="rr_tail_depth" value="16"/>     <!-- -1: path's roulette at every depth -->
+        <float name="rr_tail_prob" value="0.5"/>       <!-- roulette's cap from rr_tail_depth on -->
         <boolean name="hide_emitters" value="false"/>
         <float name="budget_ms" value="0"/>            <!-- ray-tracing time per frame; 0 = unlimited -->
         <string name="selection" value="nested"/>      <!-- or "greedy", "graph" (§4.2), "exact" -->

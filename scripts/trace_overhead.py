@@ -105,11 +105,11 @@ class TraceCall:
         from hybrid_integrator.primary import camera_rays, traced_hits
         from hybrid_integrator.selection import long_paths, refracts
         from hybrid_integrator.pipeline import HybridSettings
-        from hybrid_integrator.trace import RouletteCap, trace_effects
+        from hybrid_integrator.trace import trace_effects
 
         self.n_objects = n_objects = len(hi.scene_objects(scene))
         # Russian roulette's cap (trace.RouletteCap; None: the integrator's default)
-        self.roulette = roulette = roulette or RouletteCap(HybridSettings.rr_tail_depth, HybridSettings.rr_tail_prob)
+        self.roulette = roulette = roulette or HybridSettings().roulette
         hits = traced_hits(scene, camera_rays(scene.sensors()[0], resx, resy, (0.5, 0.5)), rasterizer(scene).tables)
         dr.eval(hits.ray, hits.si, hits.valid, hits.object)
         self.hits, self.order = hits, np.nonzero(np.array(hits.valid))[0]
@@ -193,12 +193,11 @@ def main() -> None:
     import hybrid_integrator as hi
     from hybrid_integrator.pipeline import HybridSettings
     from hybrid_integrator.raster.context import machine
-    from hybrid_integrator.trace import RouletteCap
 
     scene = hi.load_scene(args.scene, resx=args.resx, resy=args.resy)
-    defaults = RouletteCap(HybridSettings.rr_tail_depth, HybridSettings.rr_tail_prob)
-    roulette = RouletteCap(*(default if given is None else given
-                             for given, default in zip((args.rr_tail_depth, args.rr_tail_prob), defaults)))
+    # the integrator's roulette, with the options given (checked as its properties are)
+    roulette = HybridSettings(**{k: v for k, v in (("rr_tail_depth", args.rr_tail_depth),
+                                                   ("rr_tail_prob", args.rr_tail_prob)) if v is not None}).roulette
     trace = TraceCall(scene, args.resx, args.resy, args.max_depth, roulette)
     n_objects, order, frozen = trace.n_objects, trace.order, trace.frozen
     counts = [n for n in (1, 10, 100, 1000, 10000, 100000) if n < len(order)] + [len(order)]
