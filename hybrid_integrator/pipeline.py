@@ -136,8 +136,8 @@ class HybridSettings:
     rr_depth: int = 5
     #: from this depth on, Russian roulette goes on with probability at most ``rr_tail_prob``
     #: (-1: never, ``path``'s roulette; ``trace.RouletteCap``)
-    rr_tail_depth: int = 16
-    rr_tail_prob: float = 0.5
+    rr_tail_depth: int = RouletteCap._field_defaults["tail_depth"]
+    rr_tail_prob: float = RouletteCap._field_defaults["tail_prob"]
     hide_emitters: bool = False
     primary: str = "raster"
     raster: str = "auto"

@@ -38,8 +38,8 @@ from .selection import lobes as followed_lobes
 
 class RouletteCap(NamedTuple):
     """The largest probability with which Russian roulette continues a path: ``path``'s 0.95, and
-    ``tail_prob`` from path depth ``tail_depth`` on (-1: never; the integrator's ``rr_tail_depth``
-    and ``rr_tail_prob``).
+    ``tail_prob`` from path depth ``tail_depth`` on (-1: never). The defaults are the integrator's
+    (its ``rr_tail_depth`` and ``rr_tail_prob``).
 
     Past ``rr_depth`` a path continues with probability min(max throughput · η², cap). Through
     glass the throughput stays near 1, so with ``path``'s cap of 0.95 a path's length past
@@ -53,7 +53,7 @@ class RouletteCap(NamedTuple):
     the Armadillo 1.04× (0.0310 → 0.0314, rel. MSE 0.0042 both), the 226 objects 1.03×, Sponza
     1.00× (docs/results/gpu/issue10/stop57: ``rr_cap.py``)."""
 
-    tail_depth: int = -1
+    tail_depth: int = 16
     tail_prob: float = 0.5
 
     #: ``path``'s cap

@@ -104,12 +104,11 @@ class TraceCall:
         from hybrid_integrator.frozen import FrozenScene, variable_handles
         from hybrid_integrator.primary import camera_rays, traced_hits
         from hybrid_integrator.selection import long_paths, refracts
-        from hybrid_integrator.pipeline import HybridSettings
-        from hybrid_integrator.trace import trace_effects
+        from hybrid_integrator.trace import RouletteCap, trace_effects
 
         self.n_objects = n_objects = len(hi.scene_objects(scene))
         # Russian roulette's cap (trace.RouletteCap; None: the integrator's default)
-        self.roulette = roulette = roulette or HybridSettings().roulette
+        self.roulette = roulette = roulette or RouletteCap()
         hits = traced_hits(scene, camera_rays(scene.sensors()[0], resx, resy, (0.5, 0.5)), rasterizer(scene).tables)
         dr.eval(hits.ray, hits.si, hits.valid, hits.object)
         self.hits, self.order = hits, np.nonzero(np.array(hits.valid))[0]
