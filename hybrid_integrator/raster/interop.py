@@ -105,6 +105,14 @@ class _Driver:
         self._check(self.lib.cuDevicePrimaryCtxRetain(ctypes.byref(self.context), 0), "cuDevicePrimaryCtxRetain")
         dr.eval(mi.UInt32(0))  # Dr.Jit's CUDA backend (and its stream) exist from here on
         self.stream = drjit_stream()
+        if self._current() is None:  # as the runtime API would on first use: a thread with no context gets this one
+            self._check(self.lib.cuCtxSetCurrent(self.context), "cuCtxSetCurrent")
+
+    def _current(self) -> int | None:
+        """The calling thread's current context (None: none)."""
+        context = ctypes.c_void_p()
+        self._check(self.lib.cuCtxGetCurrent(ctypes.byref(context)), "cuCtxGetCurrent")
+        return context.value
 
     @staticmethod
     def _check(code: int, call: str) -> None:
@@ -129,6 +137,13 @@ class _Driver:
 
     @contextlib.contextmanager
     def current(self):
+        """The primary context current on the calling thread for the calls made inside: pushed and
+        popped only where another (or none) is current. The thread that made the driver has it
+        current (:meth:`__init__`), and on the H200 none of a frame's groups of calls needed the push
+        and the pop, which cost ~0.01 ms of host time each, ~0.1 ms per frame (docs/results/gpu/issue10/stop58)."""
+        if self._current() == self.context.value:
+            yield
+            return
         self._check(self.lib.cuCtxPushCurrent_v2(self.context), "cuCtxPushCurrent")
         try:
             yield
