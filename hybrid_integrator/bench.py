@@ -71,6 +71,7 @@ import re
 import statistics
 import subprocess
 import sys
+import time
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
@@ -219,7 +220,8 @@ def turn_poses(frames: int, warmup: int = 3, block: int = 1) -> int:
 
 
 def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
-                   warmup: int = 3, before=None, block: int = 1, cameras=None) -> dict[str, list[dict]]:
+                   warmup: int = 3, before=None, block: int = 1, cameras=None,
+                   host_speed: bool = False) -> dict[str, list[dict]]:
     """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
     rendering ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for all in round k; the
     order rotates from round to round, so that none always follows another); ``before(name)``, if
@@ -237,7 +239,11 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     from pose k·``block`` + j, told the next pose (as ``api.render_sequence`` tells a frame: the
     raster pass drawn ahead), so that each side's frames move along the path as in a sequence of
     its own (:func:`turn_poses` poses are needed); the sensor's own pose is restored after
-    (``api.posed``). Without it, the sensor's pose throughout."""
+    (``api.posed``). Without it, the sensor's pose throughout.
+
+    ``host_speed``: before each frame (outside its time) the host's speed is taken
+    (:func:`host_loop_ms`), and each measured frame's entry has it as ``host_loop``
+    (:func:`paired_ratio_by_host` splits a ratio by it)."""
     from .api import _integrator, finish, posed
     from .raster.camera import camera_pose
 
@@ -259,28 +265,73 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
                         upcoming = poses[at + 1] if at + 1 < len(poses) else None
                     if before is not None:
                         before(name)
+                    loop = host_loop_ms() if host_speed else None
                     result = integrators[name].render_result(scene, seed=seed + at, spp=spp, layers=False,
                                                              next_camera=upcoming)
                     if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
-                        times[name].append(result.stats.times_ms)
+                        entry = result.stats.times_ms
+                        times[name].append(entry if loop is None else dict(entry, host_loop=loop))
             order = order[1:] + order[:1]
         finish(scene)  # the last frame's times, with frames_in_flight=2
     return times
 
 
-def paired_ratio(times: dict[str, list[dict]], numerator: str, denominator: str, block: int = 1) -> dict:
+def paired_ratio(times: dict[str, list[dict]], numerator: str, denominator: str, block: int = 1,
+                 keep: list[bool] | None = None) -> dict:
     """``numerator``'s frame time / ``denominator``'s, pair by pair, of frames rendered in turn
     (:func:`frames_in_turn`'s ``times``): the median ratio, its quartiles, the pairs, and each
-    side's median frame time. ``block`` > 1: a pair is the two sides' median frames of a round."""
+    side's median frame time. ``block`` > 1: a pair is the two sides' median frames of a round.
+    ``keep``: per round (pair), whether it counts (default: all)."""
     total = {side: [t["total"] for t in times[side]] for side in (numerator, denominator)}
     per_round = max(block - 1, 1)
     rounds = {side: [statistics.median(v[i:i + per_round]) for i in range(0, len(v), per_round)]
               for side, v in total.items()}
+    if keep is not None:
+        rounds = {side: [r for r, k in zip(v, keep) if k] for side, v in rounds.items()}
+        total = {side: [t for i, t in enumerate(v) if keep[i // per_round]] for side, v in total.items()}
     ratios = np.asarray(rounds[numerator]) / np.asarray(rounds[denominator])
     q25, median, q75 = (float(q) for q in np.percentile(ratios, [25, 50, 75]))
     return {"median": median, "q25": q25, "q75": q75, "pairs": int(len(ratios)),
             f"{numerator}_ms": statistics.median(total[numerator]),
             f"{denominator}_ms": statistics.median(total[denominator])}
+
+
+#: a host whose loop (:func:`host_loop_ms`) takes at most this × the run's fastest counts as fast
+FAST_HOST = 1.25
+
+
+def host_loop_ms() -> float:
+    """The host CPU's speed now, in ms: the best of three runs of a fixed pure-Python loop (2,500
+    additions; ~0.1 ms on the GPU machines' CPUs at their fast speed). Those machines' CPUs run at
+    two speeds about 1.7× apart, and which ones are slow changes every few seconds
+    (docs/results/gpu/issue10/stop58): a frame bound by its host's work takes as long as the CPU it
+    lands on allows, one bound by the GPU hides it."""
+    best = math.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        total = 0
+        for i in range(2500):
+            total += i * i
+        best = min(best, time.perf_counter() - start)
+    return best * 1e3
+
+
+def paired_ratio_by_host(times: dict[str, list[dict]], numerator: str, denominator: str, block: int = 1,
+                         fast: float = FAST_HOST) -> dict:
+    """:func:`paired_ratio` apart for the pairs rendered on a fast host and on a slow one, from
+    frames in turn with ``host_speed`` (:func:`frames_in_turn`): a pair (a round, with ``block`` >
+    1) is fast where the host loop before each of its measured frames took at most ``fast`` × the
+    fastest of them all. Returns ``fast`` and ``slow`` (each :func:`paired_ratio`'s, or None
+    where no pair is), the share of fast pairs and the fastest loop (ms)."""
+    per_round = max(block - 1, 1)
+    loops = {side: [t["host_loop"] for t in times[side]] for side in (numerator, denominator)}
+    fastest = min(min(v) for v in loops.values())
+    pairs = min(-(-len(v) // per_round) for v in loops.values())
+    is_fast = [all(x <= fast * fastest for side in loops for x in loops[side][r * per_round:(r + 1) * per_round])
+               for r in range(pairs)]
+    split = {label: paired_ratio(times, numerator, denominator, block, keep=[f == want for f in is_fast])
+             if any(f == want for f in is_fast) else None for label, want in (("fast", True), ("slow", False))}
+    return split | {"fast_share": sum(is_fast) / max(pairs, 1), "fastest_loop_ms": fastest}
 
 
 def paired_gain(scene: mi.Scene, properties: dict, frames: int, spp: int, seed: int, warmup: int = 3,

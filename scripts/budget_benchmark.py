@@ -18,6 +18,10 @@
    each not measured: it pays for the switch from the other side, which cost a budgeted frame
    0.34-0.39 ms alternating frame by frame (stop 54), while a round's frames still share the
    host's speed (stop 56).
+6. Both in-turn ratios also apart for the pairs rendered on a fast host and on a slow one: the GPU
+   machines' CPUs run at two speeds about 1.7x apart, which CPUs are slow changing every few
+   seconds, and the budgeted frame, host-bound, follows them (``bench.paired_ratio_by_host``;
+   stop 58).
 
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU, 640×360
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
@@ -119,28 +123,34 @@ def main() -> None:
     # the RT baseline and the 50 % frame (nested) frame by frame in turn along the path: a pair's two
     # frames share the host's speed, which moves a budgeted frame, host-bound, by up to 1.2 ms
     # between processes (docs/results/gpu/issue10/stop53)
-    from hybrid_integrator.bench import TURN_BLOCK, frames_in_turn, paired_ratio, path_cameras, turn_poses
+    from hybrid_integrator.bench import (TURN_BLOCK, frames_in_turn, paired_ratio, paired_ratio_by_host, path_cameras,
+                                         turn_poses)
     warm = PROBES + 2  # the budget's probe frames, then two to settle
     sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}
     turn = frames_in_turn(scene, sides, args.frames, 1, 0,
-                          warmup=warm, cameras=path_cameras(args.scene, turn_poses(args.frames, warm)))
-    paired = paired_ratio(turn, "rt", "budget")
-    print("RT / 50 % in turn", paired, flush=True)
+                          warmup=warm, cameras=path_cameras(args.scene, turn_poses(args.frames, warm)), host_speed=True)
+    paired, by_host = paired_ratio(turn, "rt", "budget"), paired_ratio_by_host(turn, "rt", "budget")
+    print("RT / 50 % in turn", paired, by_host, flush=True)
     # by blocks (5.); two warm-up rounds: the probes and more
     blocks = frames_in_turn(scene, sides, args.frames, 1, 0, warmup=2, block=TURN_BLOCK,
-                            cameras=path_cameras(args.scene, turn_poses(args.frames, 2, TURN_BLOCK)))
+                            cameras=path_cameras(args.scene, turn_poses(args.frames, 2, TURN_BLOCK)), host_speed=True)
     paired_blocks = paired_ratio(blocks, "rt", "budget", TURN_BLOCK)
-    print("RT / 50 % in turn by blocks", paired_blocks, flush=True)
+    blocks_by_host = paired_ratio_by_host(blocks, "rt", "budget", TURN_BLOCK)
+    print("RT / 50 % in turn by blocks", paired_blocks, blocks_by_host, flush=True)
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
+    from hybrid_integrator.bench import FAST_HOST
     from hybrid_integrator.raster.context import machine as machine_of
     machine = machine_of()
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.with_suffix(".json").write_text(json.dumps({"command": command, "machine": machine, "all_candidates_ms": all_ms,
                                                             "budgets_ms": budgets, "summaries": summaries,
                                                             "paired_rt_over_50": paired,
-                                                            "paired_rt_over_50_blocks": paired_blocks, "runs": runs}, indent=2))
+                                                            "paired_rt_over_50_blocks": paired_blocks,
+                                                            "paired_rt_over_50_by_host": by_host,
+                                                            "paired_rt_over_50_blocks_by_host": blocks_by_host,
+                                                            "runs": runs}, indent=2))
     rt_ms = summaries["RT baseline (all candidates)"]["median_frame_ms"]
     md = [f"# Frame-time budget on the many-object scene ({args.variant})", "", f"Command: `{command}`  ",
           f"Machine: {machine}", "",
@@ -154,6 +164,9 @@ def main() -> None:
           f"The same by blocks of {TURN_BLOCK} frames along the path, the first of each not measured "
           f"({paired_blocks['pairs']} rounds): **{paired_blocks['median']:.2f}** [{paired_blocks['q25']:.2f}, "
           f"{paired_blocks['q75']:.2f}] (RT {paired_blocks['rt_ms']:.2f} ms, 50 % {paired_blocks['budget_ms']:.2f} ms).", "",
+          "By the host's speed before each frame (`bench.paired_ratio_by_host`: a pair is fast where every loop of its "
+          f"frames took at most {FAST_HOST} × the fastest): frame by frame {_by_host(by_host)}; by blocks "
+          f"{_by_host(blocks_by_host)}.", "",
           "| run | budget ms | frames that trace | frames within budget + 10 % | median / max trace ms | median frame ms | RT baseline / frame | relevance captured | selection changes per frame | objects traced / visible | rays / planned (median) | frames over 1.5× the planned rays |",
           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, s in summaries.items():
@@ -166,6 +179,15 @@ def main() -> None:
     args.output.with_suffix(".md").write_text("\n".join(md) + "\n")
     _plot(args.output.with_suffix(".png"), {k: v for k, v in runs.items() if not k.startswith("RT")}, budgets)
     print("\n".join(md))
+
+
+def _by_host(split: dict) -> str:
+    """A :func:`bench.paired_ratio_by_host` result in words."""
+    def side(label: str) -> str:
+        r = split[label]
+        return f"{label} host –" if r is None else (f"{label} host **{r['median']:.2f}** [{r['q25']:.2f}, {r['q75']:.2f}] "
+                                                    f"({r['pairs']} pairs; RT {r['rt_ms']:.2f} ms, 50 % {r['budget_ms']:.2f} ms)")
+    return f"{side('fast')}, {side('slow')} ({split['fast_share']:.0%} of the pairs fast, fastest loop {split['fastest_loop_ms']:.3f} ms)"
 
 
 def _plot(path: Path, runs: dict, budgets: dict) -> None:

@@ -182,6 +182,33 @@ def test_frames_in_turn_along_a_camera_path():
         frames_in_turn(scene, {"raster": {}}, frames=2, spp=1, seed=0, warmup=1, block=3, cameras=cameras[:5])
 
 
+def test_frames_in_turn_take_the_hosts_speed_and_ratios_split_by_it():
+    """With ``host_speed`` each measured frame carries the host loop's time before it
+    (``bench.host_loop_ms``), and ``paired_ratio_by_host`` gives the paired ratio apart for the
+    rounds on a fast host (every frame's loop within ``FAST_HOST`` × the fastest) and on a slow
+    one; ``paired_ratio``'s ``keep`` counts only the rounds it names."""
+    import hybrid_integrator as hi
+    from hybrid_integrator.bench import FAST_HOST, frames_in_turn, host_loop_ms, paired_ratio, paired_ratio_by_host
+
+    assert 0 < host_loop_ms() < 50
+    scene = hi.load_scene(DEFAULT_SCENE, resx=32, resy=24)
+    times = frames_in_turn(scene, {"raster": {"denoise": False}, "raytrace": {"denoise": False, "primary": "raytrace"}},
+                           frames=3, spp=1, seed=0, warmup=1, host_speed=True)
+    assert all(len(v) == 3 and all(t["host_loop"] > 0 and t["total"] > 0 for t in v) for v in times.values())
+    split = paired_ratio_by_host(times, "raytrace", "raster")
+    assert 0 < split["fast_share"] <= 1 and split["fast"]["pairs"] + (split["slow"] or {"pairs": 0})["pairs"] == 3
+    # rounds of 2 measured frames (block 3): round 0 fast on both sides, round 1 slow on one frame
+    frame = lambda total, loop: {"total": total, "host_loop": loop}
+    made = {"rt": [frame(8.0, 0.10), frame(8.0, 0.11), frame(8.0, 0.10), frame(8.0, 0.10)],
+            "budget": [frame(4.0, 0.10), frame(4.0, 0.12), frame(6.0, 0.10), frame(6.0, 0.10 * FAST_HOST + 0.01)]}
+    split = paired_ratio_by_host(made, "rt", "budget", block=3)
+    assert split["fast_share"] == 0.5 and split["fastest_loop_ms"] == 0.10
+    assert split["fast"]["median"] == 2.0 and split["slow"]["median"] == 8.0 / 6.0
+    assert split["fast"]["pairs"] == split["slow"]["pairs"] == 1 and split["slow"]["budget_ms"] == 6.0
+    assert paired_ratio(made, "rt", "budget", block=3, keep=[False, True]) == split["slow"]
+    assert paired_ratio_by_host({k: v[:2] for k, v in made.items()}, "rt", "budget", block=3)["slow"] is None
+
+
 def test_turn_scene_takes_the_parameters_its_file_uses_and_its_camera_path():
     """``bench.turn_scene`` (the GPU probes' set-up): the scene loaded with the parameters its file
     uses, its camera path where it has one (``NAME_path.json``), else None, and the hybrid's median
