@@ -105,8 +105,8 @@ def _count(base: int) -> int:
 def _parse(api: tuple, data) -> list[dict]:
     """The entries of what ``jit_kernel_history`` returned, freed. The array is read at once as
     a NumPy record array (:data:`_DTYPE`) and each column converted once, not entry by entry through
-    ctypes: half the host time (0.06 against 0.12-0.15 ms for a frame's ~30 entries on this
-    project's CPU; docs/results/gpu/issue10/stop58)."""
+    ctypes: 0.05-0.09 ms against 0.08-0.14 for a frame's ~30 entries on this project's CPU
+    (docs/results/gpu/issue10/stop58/parse_ab.py)."""
     free = api[1]
     if not data:
         return []
