@@ -11,7 +11,9 @@ Per N: the median wall time of a call with the backend synchronized once (Dr.Jit
 off), and the device time of its kernels (a second call with the history on: CUDA events on the
 GPU), every N (and a call that traces nothing) called in turn, round after round
 (``timed_in_turn``; one N after another until stop 57). A least-squares line through (N, time)
-gives the fixed part and the cost per pixel; the chart draws both, and beside them a call that
+gives the fixed part and the cost per pixel, and by wall time also apart for the calls made on a
+fast host and on a slow one (the host's speed taken before each call, ``calls_in_turn``: the GPU
+machines' CPUs run at two speeds, stop 58); the chart draws both, and beside them a call that
 traces no pixel (``no_pixel``: the fixed part measured, not extrapolated). On a GPU a launch lasts
 as long as its longest path, while the lanes are too few to fill the GPU: the longest of N paths
 grows with ln N (Russian roulette keeps a glass path with probability up to 0.95 per bounce; since
@@ -45,29 +47,57 @@ def timed(fn, repeats: int) -> tuple[float, float]:
 
 def timed_in_turn(fns, repeats: int) -> list[tuple[float, float]]:
     """:func:`timed` of each of ``fns``, called in turn ``repeats`` times (so that a drift of the
-    host's speed reaches all of them alike). Each turn calls a function twice: once with Dr.Jit's
-    kernel history off, timed on the host's clock (wall), and once with it on, for the device time
-    of its kernels (the history's CUDA events, two per launch, cost host time of their own: the
-    1-pixel trace call's wall 0.254 ms without them, 0.279 with, docs/results/gpu/issue10/stop39)."""
+    host's speed reaches all of them alike): the medians of :func:`calls_in_turn`."""
+    return [(statistics.median(c["wall_ms"]), statistics.median(c["device_ms"])) for c in calls_in_turn(fns, repeats)]
+
+
+def calls_in_turn(fns, repeats: int) -> list[dict]:
+    """Each of ``fns`` called in turn ``repeats`` times; per function, each call's ``wall_ms``,
+    ``device_ms`` and ``host_loop_ms``. Each turn calls a function twice: once with Dr.Jit's
+    kernel history off, timed on the host's clock (wall), after the host's speed is taken
+    (``bench.host_loop_ms``, outside the time: the GPU machines' CPUs run at two speeds,
+    docs/results/gpu/issue10/stop58), and once with the history on, for the device time of its
+    kernels (the history's CUDA events, two per launch, cost host time of their own: the 1-pixel
+    trace call's wall 0.254 ms without them, 0.279 with, docs/results/gpu/issue10/stop39)."""
     import drjit as dr
+
+    from hybrid_integrator.bench import host_loop_ms
 
     for fn in fns:
         fn()  # compiles or records
         fn()  # a frozen function may record again with its literals made opaque
-    wall, device = [[] for _ in fns], [[] for _ in fns]
+    calls = [{"wall_ms": [], "device_ms": [], "host_loop_ms": []} for _ in fns]
     for _ in range(repeats):
-        for k, fn in enumerate(fns):
+        for fn, out in zip(fns, calls):
             dr.sync_thread()
+            out["host_loop_ms"].append(host_loop_ms())
             start = time.perf_counter()
             dr.eval(fn())
             dr.sync_thread()
-            wall[k].append((time.perf_counter() - start) * 1e3)
+            out["wall_ms"].append((time.perf_counter() - start) * 1e3)
             with dr.scoped_set_flag(dr.JitFlag.KernelHistory, True):
                 dr.kernel_history_clear()
                 dr.eval(fn())
                 dr.sync_thread()
-                device[k].append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
-    return [(statistics.median(w), statistics.median(d)) for w, d in zip(wall, device)]
+                out["device_ms"].append(sum(float(e.get("execution_time", 0.0)) for e in dr.kernel_history()))
+    return calls
+
+
+def by_host(calls: list[dict]) -> list[dict]:
+    """Per function of :func:`calls_in_turn`, the median wall ms of its calls on a fast host (the
+    loop before them within ``bench.FAST_HOST`` × the fastest of all) and on a slow one (None:
+    no such call), with the share of fast calls."""
+    from hybrid_integrator.bench import FAST_HOST
+
+    fastest = min(min(c["host_loop_ms"]) for c in calls)
+    out = []
+    for c in calls:
+        fast = [w for w, loop in zip(c["wall_ms"], c["host_loop_ms"]) if loop <= FAST_HOST * fastest]
+        slow = [w for w, loop in zip(c["wall_ms"], c["host_loop_ms"]) if loop > FAST_HOST * fastest]
+        out.append({"wall_ms_fast_host": statistics.median(fast) if fast else None,
+                    "wall_ms_slow_host": statistics.median(slow) if slow else None,
+                    "fast_share": len(fast) / len(c["wall_ms"])})
+    return out
 
 
 def launches(fn, repeats: int) -> list[dict]:
@@ -208,9 +238,11 @@ def main() -> None:
         # every N and the call that traces nothing in turn, round after round: a drift of the host's
         # speed, which moved the wall-time line's intercept by 0.1 ms between two runs of the rows
         # one after another (docs/results/gpu/issue10/stop57), reaches every row alike
-        times = timed_in_turn([lambda n=n: trace(masks[n]) for n in counts] + [lambda: trace(nothing)], args.repeats)
-        rows = [{"pixels": n, "wall_ms": wall, "device_ms": device} for n, (wall, device) in zip(counts, times)]
-        empty = dict(zip(("wall_ms", "device_ms"), times[-1]))
+        calls = calls_in_turn([lambda n=n: trace(masks[n]) for n in counts] + [lambda: trace(nothing)], args.repeats)
+        times = [{"wall_ms": statistics.median(c["wall_ms"]), "device_ms": statistics.median(c["device_ms"])} | h
+                 for c, h in zip(calls, by_host(calls))]
+        rows = [{"pixels": n} | t for n, t in zip(counts, times)]
+        empty = times[-1]
         print(sweep, rows, "no pixel:", empty, flush=True)
     if args.launches:
         for row in rows:
@@ -225,6 +257,10 @@ def main() -> None:
         fits[key] = {"fixed_ms": float(intercept), "ms_per_1000_pixels": float(slope * 1e3)}
         c0, c1, c2 = np.linalg.lstsq(np.c_[np.ones_like(x), np.log(x), x], y, rcond=None)[0]
         log_fits[key] = {"fixed_ms": float(c0), "ms_per_ln_pixels": float(c1), "ms_per_1000_pixels": float(c2 * 1e3)}
+    for key in ("wall_ms_fast_host", "wall_ms_slow_host"):  # the wall-time line apart by the host's speed
+        if all(r[key] is not None for r in rows):
+            slope, intercept = np.polyfit(x, [r[key] for r in rows], 1)
+            fits[key] = {"fixed_ms": float(intercept), "ms_per_1000_pixels": float(slope * 1e3)}
     x1 = dr.arange(mi.Float, 10)
     with_scene, given, without = dr.freeze(lambda scene, x: x + 1), dr.freeze(lambda variables, x: x + 1), dr.freeze(lambda x: x + 1)
     snapshot = frozen.owner.variables.handles
@@ -268,6 +304,11 @@ def _chart(path: Path, rows: list[dict], fits: dict, log_fits: dict, report: dic
                 ":", color=line.get_color(), alpha=0.8,
                 label=f"{log_fit['fixed_ms']:.3f} + {log_fit['ms_per_ln_pixels']:.3f} ln N + "
                       f"{log_fit['ms_per_1000_pixels']:.4f} ms / 1000 px")
+    for key, style in (("wall_ms_fast_host", "--"), ("wall_ms_slow_host", "-.")):  # the wall line by the host's speed
+        if key in fits:
+            fit, xs = fits[key], np.r_[0.0, np.geomspace(1, x.max(), 100)]
+            ax.plot(xs, fit["fixed_ms"] + fit["ms_per_1000_pixels"] * xs / 1e3, style, color="grey", alpha=0.8,
+                    label=f"wall, {key.split('_')[2]} host: {fit['fixed_ms']:.3f} ms + {fit['ms_per_1000_pixels']:.4f} ms / 1000 px")
     ax.set_xscale("symlog", linthresh=1)
     ax.set_xlabel("traced pixels N")
     ax.set_ylabel("ms per trace call")
