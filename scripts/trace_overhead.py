@@ -239,8 +239,8 @@ def main() -> None:
         # speed, which moved the wall-time line's intercept by 0.1 ms between two runs of the rows
         # one after another (docs/results/gpu/issue10/stop57), reaches every row alike
         calls = calls_in_turn([lambda n=n: trace(masks[n]) for n in counts] + [lambda: trace(nothing)], args.repeats)
-        times = [{"wall_ms": statistics.median(c["wall_ms"]), "device_ms": statistics.median(c["device_ms"])} | h
-                 for c, h in zip(calls, by_host(calls))]
+        times = [{"wall_ms": statistics.median(c["wall_ms"]), "device_ms": statistics.median(c["device_ms"]),
+                  "host_loop_ms": statistics.median(c["host_loop_ms"])} | h for c, h in zip(calls, by_host(calls))]
         rows = [{"pixels": n} | t for n, t in zip(counts, times)]
         empty = times[-1]
         print(sweep, rows, "no pixel:", empty, flush=True)
