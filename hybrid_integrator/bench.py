@@ -303,9 +303,9 @@ FAST_HOST = 1.25
 def host_loop_ms() -> float:
     """The host CPU's speed now, in ms: the best of three runs of a fixed pure-Python loop (2,500
     additions; ~0.1 ms on the GPU machines' CPUs at their fast speed). Those machines' CPUs run at
-    two speeds about 1.7× apart, and which ones are slow changes every few seconds
-    (docs/results/gpu/issue10/stop58): a frame bound by its host's work takes as long as the CPU it
-    lands on allows, one bound by the GPU hides it."""
+    two speeds about 1.7× apart, each CPU slow for runs of a few ms to a second, 31-97 % of the
+    time on four CPUs sampled for 10 s (docs/results/gpu/issue10/stop58): a frame bound by its host's work takes as long as the
+    CPU it lands on allows, one bound by the GPU hides it."""
     best = math.inf
     for _ in range(3):
         start = time.perf_counter()

@@ -19,8 +19,8 @@
    0.34-0.39 ms alternating frame by frame (stop 54), while a round's frames still share the
    host's speed (stop 56).
 6. Both in-turn ratios also apart for the pairs rendered on a fast host and on a slow one: the GPU
-   machines' CPUs run at two speeds about 1.7x apart, which CPUs are slow changing every few
-   seconds, and the budgeted frame, host-bound, follows them (``bench.paired_ratio_by_host``;
+   machines' CPUs run at two speeds about 1.7x apart, each CPU slow for runs of a few ms to a
+   second, and the budgeted frame, host-bound, follows them (``bench.paired_ratio_by_host``;
    stop 58).
 
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU, 640×360

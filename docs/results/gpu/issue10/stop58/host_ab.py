@@ -1,6 +1,6 @@
 """Stop 58's host cuts against stop 57's code, in turn in one process (issue 10, stop 58).
 
-The machines' CPUs run at two speeds that swap every few seconds (``core_speed.sh``), so two
+The machines' CPUs run at two speeds that swap within milliseconds to a second (``core_speed.sh``), so two
 processes of the same code differ by up to 1.7x in host time: only sides rendered in turn, in one
 process, compare host work. Here the two sides are the same integrator with this stop's host code
 (``new``) and with stop 57's (``old``, restored before each of its frames through

@@ -1,7 +1,7 @@
 """Frames in turn, each classified by the host CPU's speed just before it (issue 10, stop 58).
 
 The device machines' CPUs run at two speeds, about 1.7x apart, and which CPUs are slow changes every
-few seconds (``core_speed.sh``). A frame bound by its host's work (a budgeted frame) then takes as
+few milliseconds to a second (``core_speed.sh``, ``pin_ab.py``). A frame bound by its host's work (a budgeted frame) then takes as
 long as the CPU it lands on allows; a frame bound by the GPU (the RT baseline, the all-candidates
 hybrid) hides it. This probe renders the RT baseline, the all-candidates hybrid and budgets of
 ``--budgets`` × the all-candidates trace time in turn (``bench.frames_in_turn``, rounds of
