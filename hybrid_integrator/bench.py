@@ -316,6 +316,13 @@ def host_loop_ms() -> float:
     return best * 1e3
 
 
+def host_loops(n: int = 21) -> dict[str, float]:
+    """``n`` :func:`host_loop_ms` in a row: their fastest and median ms (a bench scene's report
+    takes them at its start and its end, so that a run on slow CPUs shows as one)."""
+    loops = [host_loop_ms() for _ in range(n)]
+    return {"min_ms": min(loops), "median_ms": statistics.median(loops)}
+
+
 def paired_ratio_by_host(times: dict[str, list[dict]], numerator: str, denominator: str, block: int = 1,
                          fast: float = FAST_HOST) -> dict:
     """:func:`paired_ratio` apart for the pairs rendered on a fast host and on a slow one, from
@@ -359,6 +366,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     if frames < 1 or spp < 1 or gt_spp < 1 or max_path_spp < 1:
         raise HybridError("bench: frames, spp, gt_spp and max_path_spp must be >= 1")
     scene, name = load_bench_scene(spec, params)
+    host_start = host_loops()
     max_depth = int(properties.get("max_depth", -1))
     reference, gt_file, cached = None, None, False
     if accuracy:
@@ -481,6 +489,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     method = resolve_method(properties.get("raster", "auto"))
     return {
         "scene": spec, "name": name, "variant": mi.variant(), "device": _device(),
+        "host_loop_ms": {"start": host_start, "end": host_loops()},
         "raster": method, "refine": _refine(properties.get("refine", "auto")),
         "outline": resolve_outline(properties.get("outline", "auto"), method), "width": int(film[0]),
         "height": int(film[1]), "spp": spp, "frames": frames,
@@ -582,11 +591,22 @@ def _ms(value) -> str:
     return "–" if value is None else f"{value:.2f}"
 
 
+def _host_line(reports: list[dict]) -> str:
+    """The host's speed during each scene's run (:func:`host_loops` at its start and end)."""
+    def loops(h: dict) -> str:
+        return f"{h['min_ms']:.3f} / {h['median_ms']:.3f}"
+    return ("Host speed (`bench.host_loop_ms`, fastest / median of 21 at a scene's start; at its end; ~0.1 ms on "
+            "a fast CPU of the GPU machines, whose CPUs run at two speeds): "
+            + "; ".join(f"{r['name']} {loops(r['host_loop_ms']['start'])}, {loops(r['host_loop_ms']['end'])} ms"
+                        for r in reports) + "  ")
+
+
 def tables(reports: list[dict], commands: list[str]) -> str:
     """Table 3 and Table 4 layouts beside the paper's figures, then every method per scene."""
     first = reports[0]
     lines = [f"# Benchmarks: {first['variant']}, {first['width']}×{first['height']}, {first['spp']} spp per frame",
              "", *(f"Command: `{c}`  " for c in commands), f"Machine: {first['device']}  ",
+             *([_host_line(reports)] if all("host_loop_ms" in r for r in reports) else []),
              f"Raster pass: {first.get('raster', 'draw')} (`raster/visibility.py`); refined pixels: "
              f"refine={first.get('refine', 'primary')} (`pipeline.resolve_refine`), "
              f"outline={first.get('outline', 'silhouettes')} (`primary.OUTLINES`)  ",

@@ -89,6 +89,10 @@ def test_bench_without_accuracy_writes_times_and_no_chart(tmp_path):
     (report,) = json.loads((tmp_path / "bench.json").read_text())
     assert report["dr_ms"] > 0 and report["hybrid_ms"] > 0 and all(math.isnan(m["flip"]) for m in report["methods"])
     assert "Table 3 layout" in (tmp_path / "bench.md").read_text() and not (tmp_path / "default.png").exists()
+    # the host's speed at the scene's start and end (bench.host_loops), in the report and its table
+    host = report["host_loop_ms"]
+    assert all(0 < host[at]["min_ms"] <= host[at]["median_ms"] < 50 for at in ("start", "end"))
+    assert f"default {host['start']['min_ms']:.3f} / {host['start']['median_ms']:.3f}" in (tmp_path / "bench.md").read_text()
 
 
 def test_bench_scaling_by_triangles(tmp_path):
