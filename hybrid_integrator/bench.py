@@ -265,6 +265,7 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
                         upcoming = poses[at + 1] if at + 1 < len(poses) else None
                     if before is not None:
                         before(name)
+                    # before every frame, measured or not, so that each follows the same host work
                     loop = host_loop_ms() if host_speed else None
                     result = integrators[name].render_result(scene, seed=seed + at, spp=spp, layers=False,
                                                              next_camera=upcoming)
@@ -323,6 +324,13 @@ def host_loops(n: int = 21) -> dict[str, float]:
     return {"min_ms": min(loops), "median_ms": statistics.median(loops)}
 
 
+def fast_hosts(loops: list[list[float]], fast: float = FAST_HOST) -> tuple[list[list[bool]], float]:
+    """Per list of host loops (:func:`host_loop_ms`), whether each was taken on a fast host: within
+    ``fast`` × the fastest loop of all the lists; and that fastest loop (ms)."""
+    fastest = min(min(v) for v in loops if v)
+    return [[x <= fast * fastest for x in v] for v in loops], fastest
+
+
 def paired_ratio_by_host(times: dict[str, list[dict]], numerator: str, denominator: str, block: int = 1,
                          fast: float = FAST_HOST) -> dict:
     """:func:`paired_ratio` apart for the pairs rendered on a fast host and on a slow one, from
@@ -331,11 +339,9 @@ def paired_ratio_by_host(times: dict[str, list[dict]], numerator: str, denominat
     fastest of them all. Returns ``fast`` and ``slow`` (each :func:`paired_ratio`'s, or None
     where no pair is), the share of fast pairs and the fastest loop (ms)."""
     per_round = max(block - 1, 1)
-    loops = {side: [t["host_loop"] for t in times[side]] for side in (numerator, denominator)}
-    fastest = min(min(v) for v in loops.values())
-    pairs = min(-(-len(v) // per_round) for v in loops.values())
-    is_fast = [all(x <= fast * fastest for side in loops for x in loops[side][r * per_round:(r + 1) * per_round])
-               for r in range(pairs)]
+    frames, fastest = fast_hosts([[t["host_loop"] for t in times[side]] for side in (numerator, denominator)], fast)
+    pairs = min(-(-len(v) // per_round) for v in frames)
+    is_fast = [all(all(v[r * per_round:(r + 1) * per_round]) for v in frames) for r in range(pairs)]
     split = {label: paired_ratio(times, numerator, denominator, block, keep=[f == want for f in is_fast])
              if any(f == want for f in is_fast) else None for label, want in (("fast", True), ("slow", False))}
     return split | {"fast_share": sum(is_fast) / max(pairs, 1), "fastest_loop_ms": fastest}

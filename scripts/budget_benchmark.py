@@ -123,8 +123,8 @@ def main() -> None:
     # the RT baseline and the 50 % frame (nested) frame by frame in turn along the path: a pair's two
     # frames share the host's speed, which moves a budgeted frame, host-bound, by up to 1.2 ms
     # between processes (docs/results/gpu/issue10/stop53)
-    from hybrid_integrator.bench import (TURN_BLOCK, frames_in_turn, paired_ratio, paired_ratio_by_host, path_cameras,
-                                         turn_poses)
+    from hybrid_integrator.bench import (FAST_HOST, TURN_BLOCK, frames_in_turn, paired_ratio, paired_ratio_by_host,
+                                         path_cameras, turn_poses)
     warm = PROBES + 2  # the budget's probe frames, then two to settle
     sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}
     turn = frames_in_turn(scene, sides, args.frames, 1, 0,
@@ -140,7 +140,6 @@ def main() -> None:
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
-    from hybrid_integrator.bench import FAST_HOST
     from hybrid_integrator.raster.context import machine as machine_of
     machine = machine_of()
     args.output.parent.mkdir(parents=True, exist_ok=True)

@@ -87,13 +87,12 @@ def by_host(calls: list[dict]) -> list[dict]:
     """Per function of :func:`calls_in_turn`, the median wall ms of its calls on a fast host (the
     loop before them within ``bench.FAST_HOST`` × the fastest of all) and on a slow one (None:
     no such call), with the share of fast calls."""
-    from hybrid_integrator.bench import FAST_HOST
+    from hybrid_integrator.bench import fast_hosts
 
-    fastest = min(min(c["host_loop_ms"]) for c in calls)
     out = []
-    for c in calls:
-        fast = [w for w, loop in zip(c["wall_ms"], c["host_loop_ms"]) if loop <= FAST_HOST * fastest]
-        slow = [w for w, loop in zip(c["wall_ms"], c["host_loop_ms"]) if loop > FAST_HOST * fastest]
+    for c, on_fast in zip(calls, fast_hosts([c["host_loop_ms"] for c in calls])[0]):
+        fast = [w for w, f in zip(c["wall_ms"], on_fast) if f]
+        slow = [w for w, f in zip(c["wall_ms"], on_fast) if not f]
         out.append({"wall_ms_fast_host": statistics.median(fast) if fast else None,
                     "wall_ms_slow_host": statistics.median(slow) if slow else None,
                     "fast_share": len(fast) / len(c["wall_ms"])})

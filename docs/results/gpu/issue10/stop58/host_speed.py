@@ -32,7 +32,7 @@ def rank_correlation(a: list[float], b: list[float]) -> float:
 
 
 def main() -> None:
-    from hybrid_integrator.bench import FAST_HOST, frames_in_turn, turn_arguments, turn_poses, turn_scene
+    from hybrid_integrator.bench import FAST_HOST, fast_hosts, frames_in_turn, turn_arguments, turn_poses, turn_scene
 
     parser = turn_arguments(__doc__.splitlines()[0], budgets=(0.25, 0.5), block=5)
     parser.add_argument("--fast", type=float, default=FAST_HOST, help="a fast host's loop: at most this × the fastest")
@@ -53,8 +53,8 @@ def main() -> None:
                                cameras=ready.cameras, host_speed=True)
         loops = {name: [t["host_loop"] for t in times[name]] for name in sides}
         totals = {name: [t["total"] for t in times[name]] for name in sides}
-        fastest = min(min(v) for v in loops.values())
-        fast = {name: [x <= args.fast * fastest for x in loops[name]] for name in sides}
+        classes, fastest = fast_hosts(list(loops.values()), args.fast)
+        fast = dict(zip(loops, classes))
         print(f"{ready.name}: all-candidates trace {ready.all_candidates_trace_ms:.3f} ms; fastest loop "
               f"{fastest:.3f} ms, a fast host's at most {args.fast * fastest:.3f}", flush=True)
         medians = {}

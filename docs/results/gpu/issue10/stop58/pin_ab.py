@@ -33,12 +33,12 @@ def persistence(cpus: list[int], seconds: float) -> None:
             "print(' '.join(f'{x:.3f}' for x in out))")
     procs = {c: subprocess.Popen([sys.executable, "-c", code, str(c), str(seconds)], stdout=subprocess.PIPE, text=True)
              for c in cpus}
-    from hybrid_integrator.bench import FAST_HOST
+    from hybrid_integrator.bench import fast_hosts
 
     for c, proc in procs.items():
         loops = [float(x) for x in proc.communicate()[0].split()]
         each = seconds / max(len(loops), 1)
-        fast = [x <= FAST_HOST * min(loops) for x in loops]
+        fast = fast_hosts([loops])[0][0]
         runs = {True: [], False: []}
         length = 1
         for a, b in zip(fast, fast[1:]):
