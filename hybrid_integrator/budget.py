@@ -207,9 +207,6 @@ class FrameState:
     #: the next frame's plan, made ahead in this one (``pipeline.HybridRenderer._plan_ahead``, ``_account``),
     #: as (what it was made for: the frame's set-up key, spp and number, ``frames``; the ``FramePlan``)
     next_plan: tuple | None = None
-    #: the last frame's coverage as its raster alone saw it (``pipeline.raster_coverage``), where a
-    #: moving camera planned the next frame from it (else None): the growth of the next one's
-    raster_coverage: object | None = None
     #: the frames that have learnt from their counts into this state
     frames: int = 0
 
@@ -247,9 +244,6 @@ class FramePlan:
     #: a probe of the uncalibrated model (``plan_frame``): its ``rays`` come from the prior's rays
     #: per pixel, no prediction, and it is observed as expecting what it traced
     probe: bool = False
-    #: the trace time per pass that the cost model predicted for ``rays`` when it planned (0: a
-    #: probe, or no budget): how long the trace leaves the host (``pipeline.HybridRenderer._plans_from``)
-    predicted_ms: float = 0.0
 
     @property
     def traced(self) -> set[int]:
@@ -287,16 +281,12 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
                      probe=True)
     room = pass_budget - model.launch()
     if room <= 0 or not len(c):
-        plan = _plan(c, [], pass_budget)
-    else:
-        cost = model.extra_rows(c.rays)
-        if method in ("nested", "greedy"):  # an object's whole row upgrades its shadow tier (selection_graph.py)
-            plan = _plan(c, select_rows(method, cost, c.relevance, room, _tier_of_whole(c)), pass_budget)
-        else:
-            nodes = [Node(int(i), float(cost[i]), float(c.relevance[i]), group=int(c.index[i])) for i in range(len(c))]
-            plan = _plan(c, [node.key for node in select(method, nodes, room, pointers)], pass_budget)
-    plan.predicted_ms = model.predict(plan.rays)
-    return plan
+        return _plan(c, [], pass_budget)
+    cost = model.extra_rows(c.rays)
+    if method in ("nested", "greedy"):  # an object's whole row upgrades its shadow tier (selection_graph.py)
+        return _plan(c, select_rows(method, cost, c.relevance, room, _tier_of_whole(c)), pass_budget)
+    nodes = [Node(int(i), float(cost[i]), float(c.relevance[i]), group=int(c.index[i])) for i in range(len(c))]
+    return _plan(c, [node.key for node in select(method, nodes, room, pointers)], pass_budget)
 
 
 def _tier_of_whole(c: Candidates) -> np.ndarray:

@@ -14,11 +14,9 @@ stages 1, 3, 4, 2, 5: :func:`refined_lanes`.) The backend is synchronized once p
 its end. The frame's few counts (one small array per pass) are read back before that: on the GPU
 they are copied to the host behind the device passes (``interop.HostCopy``, a CUDA event), and the
 host learns from them (coverage, errors, ambient light) while the GPU still develops and denoises
-the frame, instead of after it. A budget's plan for the next frame is made earlier still, while
-the GPU traces, from the coverage this frame was planned from (a still camera: the same view) or,
-for a moving camera, from this frame's raster coverage, a small kernel issued before the device
-pass whose sums reach the host ahead of the trace (:func:`raster_coverage`,
-:meth:`HybridRenderer._plan_ahead`): on the H200 the host's work once the counts are in is longer
+the frame, instead of after it. With a still camera, a budget's plan for the next frame is made
+earlier still, while the GPU traces, from the coverage this frame was planned from
+(:meth:`HybridRenderer._plan_ahead`): on the H200 the host's work once the counts are in is longer
 than the 1.1 ms denoiser, so the frame waits for any more of it.
 
 Each sample pass rasterizes the whole frame at one sub-pixel offset (a scrambled Halton sequence,
@@ -66,8 +64,7 @@ from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, ca
 from .inflight import FRAMES_IN_FLIGHT, FrameSpan, InFlight
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
-from .primary import (PrimaryHits, camera_rays, primary_hits, raster_hits, resolve, resolve_outline, resolved,
-                      traced_hits)
+from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolve_outline, resolved, traced_hits
 from .raster.camera import RasterCamera, camera_pose, resolve_sensor
 from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
@@ -293,11 +290,6 @@ class FrameStats:
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
     predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
-    #: where the frame made the next frame's plan from (a budget's, once its cost model is
-    #: calibrated): while the GPU traced, from the last coverage (``last``: a still camera) or from
-    #: its raster coverage (``raster``: a moving camera); once its counts were in (``counts``);
-    #: "": none made (``HybridRenderer._plan_ahead``)
-    next_plan_from: str = ""
     #: host time (ms) by phase: frame set-up, selection, the raster pass and its interop copy, the
     #: device pass (a frozen replay: Dr.Jit walks its inputs, the scene's variables among them,
     #: then launches), film development, post-processing, the statistics and what the next frame
@@ -594,36 +586,11 @@ def refined_lanes(scene: mi.Scene, hits: PrimaryHits, chosen: Selection, data: P
     return lanes
 
 
-def _pass_camera(data: PassData) -> tuple[mi.Point2f, mi.Point3f]:
-    """The pass's sub-pixel offset and eye, read on the device from ``data.camera``."""
-    return (mi.Point2f(*(dr.gather(mi.Float, data.camera, k) for k in range(2))),
-            mi.Point3f(*(dr.gather(mi.Float, data.camera, k) for k in range(2, 5))))
-
-
-def raster_coverage(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic,
-                    clock: StageClock) -> mi.UInt32:
-    """Eq. 1's coverage of one sample pass as its raster alone sees it: each pixel's object and
-    depth from its visibility buffer (``primary.resolve``: no pixel refined, unlike the device
-    pass's coverage), summed as :func:`heuristic.coverage_sums`, as 32-bit words for
-    ``interop.HostCopy``. One small kernel, issued before the device pass, so that its sums reach
-    the host while the GPU traces: a moving camera's budgeted frame plans the next frame from
-    them then (§4.3's coherence: this frame's view), not once its counts are in, where the frame
-    waits for the host (:meth:`HybridRenderer._plan_ahead`). ``scene`` is unused: a frozen
-    function of :class:`frozen.FrozenScene` takes it first."""
-    w, h = static.width, static.height
-    offset, eye = _pass_camera(data)
-    ray = camera_rays(sensor, w, h, offset)
-    record = resolve(data.triangle_id, ray, data.tables)
-    sums = coverage_sums(record.object, record.hit, dr.norm(ray(record.t) - eye), w, h, static.n_objects)
-    words = dr.reinterpret_array(mi.UInt32, sums.total())
-    clock.mark("select", words)
-    return words
-
-
 def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: PassStatic, clock: StageClock) -> PassOutput:
     """Stages 1 (on the device) to 5 of one sample pass, as Dr.Jit kernels (module docstring)."""
     w, h = static.width, static.height
-    offset, eye = _pass_camera(data)
+    offset = mi.Point2f(*(dr.gather(mi.Float, data.camera, k) for k in range(2)))
+    eye = mi.Point3f(*(dr.gather(mi.Float, data.camera, k) for k in range(2, 5)))
     seed = mi.UInt64(dr.gather(mi.UInt32, data.seed, 0)) | (mi.UInt64(dr.gather(mi.UInt32, data.seed, 1)) << 32)
     # the raster's outline test measures pixels with the rays' differentials (primary.outline_ties)
     ray = camera_rays(sensor, w, h, offset, differentials=static.primary == "raster" and static.outline == "ties")
@@ -771,12 +738,6 @@ class _Frame:
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
     queries: list = field(default_factory=list)  # the GL timer queries of its passes' draws
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
-    #: where the next frame's plan is made ahead from, if it is (:meth:`HybridRenderer._plans_from`):
-    #: ``"last"``, a still camera's last coverage; ``"raster"``, this frame's raster coverage
-    plans_from: str | None = None
-    #: this frame's raster coverage on its way to the host (``plans_from="raster"``): its
-    #: ``HostCopy`` on the GPU, its words on the CPU (:func:`raster_coverage`)
-    raster_coverage: object = None
 
     def denoised(self, settings: HybridSettings) -> bool:
         """Whether the frame is denoised after its device passes: with ``denoise``, where it traces
@@ -818,7 +779,7 @@ class HybridRenderer:
         # per PassStatic: Dr.Jit 1.5 was seen to replay a recording made for other static
         # settings (a pass without the denoiser's guides for one with them)
         self.frozen = FrozenScene(scene)
-        self._frozen: dict[tuple[Callable, PassStatic], FrozenFunction] = {}
+        self._frozen: dict[PassStatic, FrozenFunction] = {}
         self._gl_queries: list = []  # GL timer queries no pass holds
         self._ahead: DrawnAhead | None = None  # the next frame's first pass, drawn by the last frame
         self._cameras: dict[tuple, RasterCamera] = {}  # per set-up, the last frame's camera
@@ -828,8 +789,6 @@ class HybridRenderer:
         #: on the GPU, each frame's counts reach the host without waiting for the rest of its work;
         #: two copies, frames taking turns, so that a frame in flight keeps its own until it is read
         self._counts = [HostCopy(), HostCopy()] if mi.variant().startswith("cuda") else []
-        #: and a moving camera's raster coverage, without waiting for its trace (:func:`raster_coverage`)
-        self._raster_copy = HostCopy() if self._counts else None
         #: the sub-pixel offsets of the next seed, made while the GPU traced the last frame
         self._next_offsets: dict[tuple[int, int], list[tuple[float, float]]] = {}
         #: the host time (ms) of the last budget plan (:meth:`_plan`): whether a trace leaves the
@@ -868,7 +827,6 @@ class HybridRenderer:
                                                  for t in tables)
             clock.lap("setup")
             plan, config = self._select(settings, frame, state, seed)  # 3. selection, on the host
-            self._raster_coverage(settings, frame, state, plan, next_pose, config, seed, offsets[0], ids[0])
             clock.lap("select")
             outputs = [self._device(settings, frame, config, seed, sample, offset, ids[sample], clock)  # 1, 2, 4, 5
                        for sample, offset in enumerate(offsets)]
@@ -931,8 +889,8 @@ class HybridRenderer:
         # the next seed's sub-pixel offsets (~0.1 ms of host time on the H100's host, numpy's
         # generator) now too, not before the next frame's raster pass: the same numbers
         self._next_offsets = {(frame.stats.spp, seed + 1): subpixel_offsets(frame.stats.spp, seed + 1)}
-        # and the next frame's plan, while the GPU traces this one (:meth:`_plan_ahead`)
-        self._plan_ahead(settings, frame, state, plan)
+        # and, with a still camera, the next frame's plan, while the GPU traces this one (:meth:`_plan_ahead`)
+        self._plan_ahead(settings, frame, state, plan, next_pose)
         learnt = read = None
         if span is None:
             # the counts, then what the next frame learns from them: on the GPU while it develops
@@ -1084,88 +1042,49 @@ class HybridRenderer:
         return plan, device_array(mi.Int32, config)
 
     def _plan(self, settings: HybridSettings, frame: _Frame, state: FrameState, cov: Coverage,
-              selected: set[int] | None = None, growth: np.ndarray | None = None) -> FramePlan:
+              selected: set[int] | None = None) -> FramePlan:
         """Eq. 1–3 from a coverage, then the selection within the budget, for a frame after one that
-        selected ``selected`` (default: the state's); ``growth``: the pixels' growth that led to
-        ``cov`` (default: the state's, where ``cov`` is the state's coverage)."""
+        selected ``selected`` (default: the state's)."""
         start = time.perf_counter()
-        if growth is None and cov is state.coverage:
-            growth = state.growth
+        growth = state.growth if cov is state.coverage else None  # the growth that led to ``cov``
         c = candidates(cov, frame.active, state.selected if selected is None else selected, settings.importance,
                        state.rays_per_pixel, self._errors(settings, state), frame.tiers, growth)
         plan = plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
         self._plan_ms = (time.perf_counter() - start) * 1e3
         return plan
 
-    def _plans_from(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
-                    next_pose: np.ndarray | None) -> str | None:
-        """Whether the next frame's plan is made ahead, while the GPU traces this frame, and from
-        which coverage (:meth:`_plan_ahead`): ``"last"``, a still camera's last coverage (the same
-        view, at another sub-pixel offset); ``"raster"``, a moving camera's raster coverage of
-        this frame (:func:`raster_coverage`); ``None``: planned once the counts are in
-        (:meth:`_account`), by a frame of camera rays or with an uncalibrated model, or where the
-        trace leaves the host no time to plan: a trace predicted to take less than twice the last
-        plan's host time is over before the plan, whose time then delays the frame's end either
-        way, and the next raster pass's issue with it (a trace of the Armadillo's floor alone,
-        0.55 ms: frames 0.13-0.21 ms longer so, docs/results/gpu/issue10/stop53). Decided as the
-        frame starts, from its plan's prediction (the model refits later, while the GPU traces)."""
+    def _plan_ahead(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
+                    next_pose: np.ndarray | None) -> None:
+        """With a still camera and a trace long enough, the next frame's plan, made while the GPU
+        traces this frame: from the coverage this frame's plan was made from (the last frame's: the
+        same view, at another sub-pixel offset), what was learnt until the last frame, and this
+        frame's selection (S of eq. 3). So the host plans where it waits for the trace anyway, not
+        once this frame's counts are on the host, where the frame waits for it: on the H200 the
+        host's work there (learning, planning, the next raster pass) takes longer than the 1.1 ms
+        denoiser, and host work added there was 0.5-1.4 times in the frame, hidden where added while
+        the GPU traced (docs/results/gpu/issue10/stop53: frames 0.40-0.69 ms shorter so on the
+        showcase, Sponza and the dining room, in turn in one process). A moving camera plans once the counts are in
+        (:meth:`_account`): planned from the coverage before the last, its frames on the 226
+        objects' camera path captured 6-13 % less relevance, for 0.4-0.8 ms less per frame
+        (stop 53). The next frame uses the plan if its settings are the same and this frame's
+        trace took no longer than the model predicted (:meth:`_account_times`)."""
         cov = state.coverage  # the last frame's, of this state (whose set-up may have been another)
         if (plan is None or not state.cost_model.calibrated or not isinstance(cov, Coverage)
-                or (cov.width, cov.height) != (frame.camera.width, frame.camera.height)
-                or plan.predicted_ms * frame.stats.spp < 2.0 * self._plan_ms):
-            return None
+                or (cov.width, cov.height) != (frame.camera.width, frame.camera.height)):
+            return
         # still: the last frame of this set-up (``_draw_ahead`` keeps its camera) drew as this one,
         # and so will the next
         last = self._cameras.get(frame.setup)
-        if (last is not None and last.draws_as(frame.camera)
+        if not (last is not None and last.draws_as(frame.camera)
                 and (next_pose is None or frame.camera.at(next_pose).draws_as(frame.camera))):
-            return "last"
-        return "raster" if settings.primary == "raster" else None
-
-    def _raster_coverage(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
-                         next_pose: np.ndarray | None, config: mi.Int32, seed: int, offset, triangle_id: mi.UInt32) -> None:
-        """Where the next frame's plan is made ahead from (:meth:`_plans_from`); for a moving
-        camera, its first sample pass's raster coverage (:func:`raster_coverage`) issued ahead of
-        the device passes, and on the GPU copied to the host behind it alone."""
-        frame.plans_from = self._plans_from(settings, frame, state, plan, next_pose)
-        if frame.plans_from != "raster":
-            state.raster_coverage = None  # a growth is measured between consecutive frames' alone
             return
-        words = self._replay(raster_coverage, settings, frame, self._data(frame, config, seed, 0, offset, triangle_id))
-        if self._raster_copy is not None:
-            self._raster_copy.start([words])
-            words = self._raster_copy
-        frame.raster_coverage = words
-
-    def _plan_ahead(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None) -> None:
-        """The next frame's plan, made while the GPU traces this frame (where :meth:`_plans_from`
-        chose so), from this frame's selection (S of eq. 3), what was learnt until the last frame,
-        and either the coverage this frame's plan was made from (a still camera: the last frame's,
-        the same view) or this frame's raster coverage (a moving camera; its pixels' growth since
-        the last frame's raster coverage, where that frame measured one). So the host plans where
-        it waits for the trace anyway, not once this frame's counts are on the host, where the
-        frame waits for it: on the H200 the host's work there (learning, planning, the next raster
-        pass) takes longer than the 1.1 ms denoiser, and host work added there was 0.5-1.4 times in
-        the frame, hidden where added while the GPU traced (docs/results/gpu/issue10/stop53: frames
-        0.40-0.69 ms shorter so on the showcase, Sponza and the dining room, in turn in one
-        process). Stop 53 planned a moving camera ahead from the last frame's coverage, a view two
-        frames old: 0.4-0.8 ms shorter frames on the 226 objects' path, but 6-13 % less relevance
-        captured; this frame's raster coverage is the view the plan made once the counts are in
-        would use (less its few refined pixels). The next frame uses the plan if its settings are
-        the same and this frame's trace took no longer than the model predicted
-        (:meth:`_account_times`)."""
-        if frame.plans_from is None:
-            return
-        cov, growth = state.coverage, None
-        if frame.plans_from == "raster":
-            copy = frame.raster_coverage
-            words = copy.wait()[0] if isinstance(copy, HostCopy) else np.array(copy)
-            cov = Coverage.of(words.view(np.float32), frame.camera.width, frame.camera.height, len(self.objects))
-            growth = pixel_growth(state.raster_coverage, cov)
-            state.raster_coverage = cov
-        state.next_plan = ((frame.setup, frame.stats.spp, state.frames + 1),
-                           self._plan(settings, frame, state, cov, selected=plan.traced, growth=growth))
-        frame.stats.next_plan_from = frame.plans_from
+        # and where the trace leaves the host the time to plan: a trace predicted to take less than
+        # twice the last plan's host time is over before the plan, whose time then delays the
+        # frame's end either way, and the next raster pass's issue with it (a trace of the
+        # Armadillo's floor alone, 0.55 ms: frames 0.13-0.21 ms longer so, stop 53)
+        if state.cost_model.predict(plan.rays) * frame.stats.spp >= 2.0 * self._plan_ms:
+            state.next_plan = ((frame.setup, frame.stats.spp, state.frames + 1),
+                               self._plan(settings, frame, state, cov, selected=plan.traced))
 
     def _pass(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
               clock: "_HostClock | None" = None) -> PassOutput:
@@ -1255,33 +1174,27 @@ class HybridRenderer:
     def _device(self, settings: HybridSettings, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset,
                 triangle_id: mi.UInt32, clock: "_HostClock") -> PassOutput:
         """Stages 1 (on the device) to 5 of one sample pass: the frozen device pass."""
-        output = self._replay(device_pass, settings, frame, self._data(frame, config, seed, sample, offset, triangle_id))
-        clock.lap("replay")
-        return output
-
-    def _data(self, frame: _Frame, config: mi.Int32, seed: int, sample: int, offset, triangle_id: mi.UInt32) -> PassData:
-        """The inputs of one sample pass's device functions."""
-        return PassData(triangle_id=triangle_id,
-                        camera=device_array(mi.Float, np.r_[offset, frame.camera.eye].astype(np.float32)),
+        camera = frame.camera
+        data = PassData(triangle_id=triangle_id, camera=device_array(mi.Float, np.r_[offset, camera.eye].astype(np.float32)),
                         seed=device_array(mi.UInt32, np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)),
                         config=config,
                         tables=self.raster.tables, lights=self.lighting.table, constants=self.constants,
                         ambient=frame.ambient, indirect=frame.indirect)
-
-    def _replay(self, function: Callable, settings: HybridSettings, frame: _Frame, data: PassData):
-        """``function(scene, sensor, data, static, clock)`` (:func:`device_pass`,
-        :func:`raster_coverage`), frozen: recorded once per function and ``PassStatic`` (a new
-        ``dr.freeze`` per pass would be waste), replayed after. Mitsuba 3.9's orthographic sensor
-        holds a Dr.Jit variable its traversal does not expose, which a frozen function cannot
-        capture ("created before recording was started"): its frames run unfrozen."""
-        if not settings.freeze or frame.camera.orthographic:
-            return function(self.scene, frame.sensor, data, frame.static, self.clock)
-        key = (function, frame.static)
-        if key not in self._frozen:
-            self._frozen[key] = self.frozen.freeze(functools.partial(function, static=frame.static, clock=self.clock))
-        if function is device_pass:
-            frame.stats.frozen_inputs = self._frozen[key].inputs
-        return self._frozen[key](frame.sensor, data)
+        # Mitsuba 3.9's orthographic sensor holds a Dr.Jit variable its traversal does not expose,
+        # which a frozen function cannot capture ("created before recording was started"): its
+        # frames run unfrozen
+        frozen = settings.freeze and not camera.orthographic
+        if frozen and frame.static not in self._frozen:  # made once: a new dr.freeze per pass would be waste
+            self._frozen[frame.static] = self.frozen.freeze(functools.partial(device_pass, static=frame.static,
+                                                                              clock=self.clock))
+        if frozen:
+            function = self._frozen[frame.static]
+            output = function(frame.sensor, data)
+            frame.stats.frozen_inputs = function.inputs
+        else:
+            output = device_pass(self.scene, frame.sensor, data, frame.static, self.clock)
+        clock.lap("replay")
+        return output
 
     @staticmethod
     def _errors(settings: HybridSettings, state: FrameState) -> np.ndarray | None:
@@ -1366,10 +1279,9 @@ class HybridRenderer:
         state.frames += 1
         # the next frame's plan from what this one taught, while the GPU still denoises it (once the
         # cost model has passed its probe frames, whose sizes follow its observations one by one),
-        # unless it was made already, while the GPU traced (:meth:`_plan_ahead`)
+        # unless a still camera's was made already (:meth:`_plan_ahead`)
         if plan is not None and state.cost_model.calibrated and state.next_plan is None:
             state.next_plan = ((frame.setup, frame.stats.spp, state.frames), self._plan(settings, frame, state, cov))
-            stats.next_plan_from = "counts"
         clock.lap("readback")
         return learnt
 
