@@ -43,10 +43,12 @@ default, the real-time setting) with the backend synchronized, :func:`bench_scen
 
 The hybrid's frames are timed with ``stage_times=False`` (no kernel history: no CUDA events around
 every launch, none read after the frame; ``path`` is timed without them too; until issue 10's
-stop 50 the hybrid's timed frames carried them: 0.19-0.26 ms per frame on the H200), except the
-budgeted ones, whose cost model needs the trace's time. The per-stage breakdown (device times,
-``pipeline.FrameStats``) of DR, the hybrid and the RT baseline comes from as many frames again
-with the stage times on, and each budgeted row's from its own frames. The error of every image
+stop 50 the hybrid's timed frames carried them: 0.19-0.26 ms per frame on the H200); a budgeted
+frame, whose cost model needs the trace's time, keeps them on every ``timing_interval``-th frame
+(since stop 59; before, on all). The per-stage breakdown (device times, ``pipeline.FrameStats``)
+of DR, the hybrid and the RT baseline comes from as many frames again with the stage times on, and
+each budgeted row's from its own timed frames (where none of them was, from as many again with
+the stage times on). The error of every image
 against the ground truth (``path`` at ``gt_spp``, cached: ``compare.ground_truth``), FLIP, relative
 MSE and ΔE2000 (``metrics.py``), is measured after all the timings, in parallel worker processes. A frame's
 error is a random number (its samples, and for the hybrid the one sub-pixel offset all pixels of
@@ -431,7 +433,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
                             block=TURN_BLOCK)
     trace_all = everything.stages_ms["trace"]
     for fraction in budgets:  # 0 % still needs a positive budget (0 means unlimited)
-        hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, budget_ms=max(fraction * trace_all, 1e-6))
+        # its stages from its timed frames (every ``timing_interval``-th), else from as many again
+        hybrid(f"hybrid@{fraction:.0%}", "hybrid", 5, profile=True, budget_ms=max(fraction * trace_all, 1e-6))
     if accuracy:  # the rest of the time–error plane: no denoiser, more samples, history
         hybrid("hybrid, no denoiser", "hybrid", 3, denoise=False)
         hybrid("hybrid, denoiser 'high'", "hybrid", 3, denoise_quality="high")
@@ -618,9 +621,10 @@ def tables(reports: list[dict], commands: list[str]) -> str:
              f"outline={first.get('outline', 'silhouettes')} (`primary.OUTLINES`)  ",
              f"Medians over {first['frames']} frames after warm-up; times in ms per frame; errors against "
              f"`path` at {first['ground_truth']['spp']} spp (max_depth {first['ground_truth']['max_depth']}). "
-             "The hybrid's frames are timed with `stage_times=false` (no kernel history), but for the budgets; "
-             "the device ms per stage of DR, the hybrid and the RT baseline are from as many frames again with "
-             "it on, those of a budget from its own frames, other rows have none.", "",
+             "The hybrid's frames are timed with `stage_times=false` (no kernel history; a budget keeps it on "
+             "every `timing_interval`-th frame, its cost model's); the device ms per stage of DR, the hybrid and "
+             "the RT baseline are from as many frames again with it on, those of a budget from its own timed "
+             "frames, other rows have none.", "",
              "## Table 3 layout: hybrid against pure ray tracing", "",
              "DR: a frame that traces nothing (raster, deferred lighting, composition); GL: its OpenGL pass "
              "alone (GPU time; the compute-shader rasterizer on CUDA, `raster/compute.py`); `path`: Mitsuba's path tracer at 1 spp on the same scene "

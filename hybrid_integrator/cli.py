@@ -68,12 +68,15 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
                         "once the frame's CUDA work is done (default: auto, on with CUDA-OpenGL interop)")
     g.add_argument("--stage-times", dest="stage_times", action=argparse.BooleanOptionalAction, default=None,
                    help="time each stage on the device from Dr.Jit's kernel history (default: on; off, a frame "
-                        "without a budget reports only its total, gl and denoise times, and is shorter)")
+                        "reports only its total, gl and denoise times, and is shorter; a budgeted one is timed "
+                        "every --timing-interval frames)")
+    g.add_argument("--timing-interval", dest="timing_interval", type=int,
+                   help="with a budget and --no-stage-times, time every N-th frame's trace (default: 4)")
 
 
 def _properties(args) -> dict:
     names = ("primary", "raster", "refine", "outline", "effects", "candidates", "blend", "max_depth", "rr_depth", "rr_tail_depth", "rr_tail_prob", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
-             "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead", "stage_times")
+             "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead", "stage_times", "timing_interval")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 
 

@@ -34,8 +34,9 @@ synchronization, and ``issue`` the part of it the host took to issue the frame's
 ``frames_in_flight=2`` (``inflight.py``) a frame does not synchronize: the next frame reads its
 counts and its times (``total`` then is device time between CUDA events; its stages are NaN).
 The kernel history is instrumentation (a pair of CUDA events around every launch, read back after
-the synchronization): ``stage_times=False`` leaves it off in a frame without a budget, whose
-stages are then NaN (a budget learns from the trace's time, so its frames keep it).
+the synchronization): ``stage_times=False`` leaves it off, and the frame's stages are then NaN;
+a budget learns from the trace's time, so its frames keep it on every ``timing_interval``-th frame
+of a sequence (:meth:`HybridSettings.times_frame`).
 """
 from __future__ import annotations
 
@@ -166,8 +167,16 @@ class HybridSettings:
     #: ``HybridRenderer._read_ahead``): within the measurement's noise for a denoised hybrid or RT
     #: frame (-0.08 to +0.03 ms on two scenes), 0.05-0.10 for DR's (docs/results/gpu/issue10/stop51;
     #: 0.19-0.26 for the hybrid before, stop 50).
-    #: A budgeted frame times its stages whatever this says: its cost model learns the trace's time
+    #: Off, a budgeted frame still times its stages on every ``timing_interval``-th frame of its
+    #: sequence, and on every frame until its cost model is calibrated: the model learns the
+    #: trace's time from those (:meth:`times_frame`)
     stage_times: bool = True
+    #: with a budget and ``stage_times`` off, how often a frame reads the trace's device time (1:
+    #: every frame). The kernel history is the one clock inside the frozen device pass, and it costs
+    #: a budgeted frame's host a pair of CUDA events per launch, before the GPU reaches the trace,
+    #: and their readout: on an H200 whose CPUs ran slow, frames without it were 0.30-0.89 ms
+    #: shorter along the 226 objects' path at 25-75 % (docs/results/gpu/issue10/stop59)
+    timing_interval: int = 4
 
     @property
     def roulette(self) -> RouletteCap:
@@ -180,13 +189,17 @@ class HybridSettings:
         learns from the trace's time, which only a synchronization gives; ``inflight.py``)."""
         return self.frames_in_flight > 1 and self.budget_ms <= 0
 
-    @property
-    def times_stages(self) -> bool:
+    def times_frame(self, frames: int = 0, calibrated: bool = True) -> bool:
         """Whether a frame keeps and reads Dr.Jit's kernel history for its stages' device times:
-        with ``stage_times`` or a budget, but not in flight (Dr.Jit reads its history only after
-        a synchronization, so a frame in flight never reads it: until stop 50 it kept one
-        anyway, its events recorded for nothing)."""
-        return (self.stage_times or self.budget_ms > 0) and not self.in_flight
+        with ``stage_times``; without, a budgeted frame whose cost model is not calibrated yet, or
+        whose sequence has learnt from a multiple of ``timing_interval`` frames before it
+        (``frames``); never in flight (Dr.Jit reads its history only after a synchronization, so
+        a frame in flight never reads it: until stop 50 it kept one anyway, its events recorded
+        for nothing). ``dr.freeze`` keeps a recording per state of the history's flag, so that
+        timed and untimed frames each replay their own."""
+        if self.in_flight:
+            return False
+        return self.stage_times or (self.budget_ms > 0 and (not calibrated or frames % self.timing_interval == 0))
 
     def _check_types(self) -> None:
         """Each property of a plain type has a value of that type (Mitsuba's own properties are
@@ -248,6 +261,8 @@ class HybridSettings:
         if not (math.isfinite(self.rr_tail_prob) and 0.0 < self.rr_tail_prob <= 1.0):
             raise HybridError(f"rr_tail_prob={self.rr_tail_prob} must lie in (0, 1]: the largest probability with which "
                               "Russian roulette continues a path from rr_tail_depth on")
+        if self.timing_interval < 1:
+            raise HybridError(f"timing_interval={self.timing_interval} must be >= 1 (1: a budget times every frame)")
         if self.secondary_spp < 1:
             raise HybridError(f"secondary_spp={self.secondary_spp} must be >= 1 (paths traced from each primary hit)")
 
@@ -311,8 +326,12 @@ class FrameStats:
     stages_timed: bool = True
 
     @property
-    def budget_met(self) -> bool:
-        return self.budget_ms <= 0 or self.times_ms["trace"] <= self.budget_ms
+    def budget_met(self) -> bool | None:
+        """Whether the trace stage took no longer than the budget (True without one); None where
+        the frame did not time its stages (``HybridSettings.times_frame``)."""
+        if self.budget_ms <= 0:
+            return True
+        return None if math.isnan(self.times_ms["trace"]) else bool(self.times_ms["trace"] <= self.budget_ms)
 
     @property
     def secondary_rays(self) -> int:
@@ -738,6 +757,7 @@ class _Frame:
     denoiser: Denoiser | None = None  # the denoiser this frame ran, if any
     queries: list = field(default_factory=list)  # the GL timer queries of its passes' draws
     traces: bool = True  # some object is selected: without one the image is the raster layer, noise-free
+    timed: bool = True  # its stages are timed (``HybridSettings.times_frame``)
 
     def denoised(self, settings: HybridSettings) -> bool:
         """Whether the frame is denoised after its device passes: with ``denoise``, where it traces
@@ -810,11 +830,13 @@ class HybridRenderer:
         state = state if state is not None else FrameState()
         next_pose = None if next_camera is None else camera_pose(next_camera)  # checked before any work
         spp, seed = check_frame_numbers(spp, seed)
-        with dr.scoped_set_flag(dr.JitFlag.KernelHistory, settings.times_stages):
+        timed = settings.times_frame(state.frames, state.cost_model.calibrated)
+        with dr.scoped_set_flag(dr.JitFlag.KernelHistory, timed):
             dr.kernel_history_clear()
             clock = _HostClock()
             span, after = self._begin(settings)
             frame = self._frame(settings, resolve_sensor(self.scene, sensor), check_aovs(aovs), spp, layers)
+            frame.timed = timed
             # a sequence's frames take seeds seed, seed + 1, ...: the previous frame made these
             offsets = self._next_offsets.pop((frame.stats.spp, seed), None) or subpixel_offsets(frame.stats.spp, seed)
             clock.lap("setup")
@@ -834,7 +856,7 @@ class HybridRenderer:
             # meanwhile (_read_ahead), once their counts are on the host: the launches after them
             # go unrecorded, so that the history is complete then (their stages are the ones timed
             # but temporal accumulation's, a stage of its own, read after the synchronization)
-            ahead = settings.times_stages and frame.denoised(settings) and not settings.temporal
+            ahead = timed and frame.denoised(settings) and not settings.temporal
             if ahead:
                 dr.set_flag(dr.JitFlag.KernelHistory, False)
             copy = self._counts[0] if self._counts else None
@@ -1341,15 +1363,15 @@ class HybridRenderer:
         history read ahead, :meth:`_read_ahead`; else read now), and the cost model taught the
         trace's time (:meth:`_account`'s ``learnt``)."""
         stats = frame.stats
-        if settings.times_stages:
+        if frame.timed:
             stats.times_ms.update(stage_ms if stage_ms is not None else self.clock.frame_times())
-        else:  # no history was kept (``stage_times=False``): nothing to read
+        else:  # no history was kept (``HybridSettings.times_frame``): nothing to read, nothing learnt
             stats.untimed()
         self._timers(frame)
         if settings.primary == "raster" and math.isfinite(stats.times_ms["gl"]):  # NaN: the driver timed no draw (gl_elapsed_ms)
             stats.times_ms["raster"] += stats.times_ms["gl"]
         clock.lap("timing")
-        if learnt is not None:
+        if learnt is not None and frame.timed:
             # the refit waits for the next prediction: the next frame's plan, made ahead (_plan_ahead,
             # _account), or in its _select if that plan is dropped here
             per_object, passes, expected = learnt

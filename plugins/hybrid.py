@@ -29,6 +29,7 @@
         <string name="raster_ahead" value="auto"/>     <!-- or "on", "off": next frame's raster pass -->
         <integer name="frames_in_flight" value="1"/>   <!-- 2: the next frame issued while the GPU finishes this one -->
         <boolean name="stage_times" value="true"/>     <!-- false: no per-stage device times, a shorter frame -->
+        <integer name="timing_interval" value="4"/>    <!-- budget, stage_times false: trace timed every 4th frame -->
     </integrator>
 
 Properties
@@ -148,8 +149,16 @@ Properties
                  still timed): the frame as a renderer ships it. On the H200 a denoised frame is
                  about as fast either way (-0.08 to +0.03 ms on two scenes), a DR frame 0.05-0.10
                  ms faster (``SIDES=new bash docs/results/gpu/issue10/stop51/run.sh cost
-                 SCENE…``). A budgeted frame
-                 times its stages regardless: its cost model learns the trace's time.
+                 SCENE…``). A budgeted frame's cost model learns the trace's time, so without
+                 ``stage_times`` a budget still times every ``timing_interval``-th frame.
+``timing_interval``  with a budget and ``stage_times`` false, a frame times its stages (and its
+                 cost model learns from its trace) every ``timing_interval`` frames of a sequence
+                 (default 4; 1: every frame), and every frame until the model is calibrated; the
+                 frames between report NaN stages and ``stats.budget_met`` None. The kernel history
+                 costs a budgeted frame, bound by its host, a pair of CUDA events per launch before
+                 the GPU reaches the trace and their readout: on an H200 whose CPUs ran slow, the
+                 frames without it were 0.30-0.89 ms shorter along the 226 objects' camera path at
+                 25-75 % budgets (``bash docs/results/gpu/issue10/stop59/run.sh untimed``).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 ``rr_tail_depth``, ``rr_tail_prob``  past ``rr_depth`` a path goes on with probability
                  min(max throughput · η², 0.95), as in ``path``; from depth ``rr_tail_depth`` on

@@ -11,6 +11,7 @@ import pytest
 
 import hybrid_integrator as hi
 from hybrid_integrator.cli import main as cli
+from hybrid_integrator.errors import HybridError
 from hybrid_integrator.io import read_exr
 from hybrid_integrator.pipeline import HybridSettings, resolve_refine
 from conftest import DEFAULT_SCENE, SHARED_SCENES, load
@@ -282,8 +283,9 @@ def test_properties_from_a_dict():
 def test_stage_times_off_renders_the_same_frames_without_the_kernel_history():
     """``stage_times=false`` (as a property and through ``mi.load_dict``): the same images and counts as with the stage times,
     whose entries are NaN (no kernel history kept or read) while ``total`` and the denoiser's time
-    are measured; a budgeted frame times its stages regardless (its cost model learns the trace's
-    time)."""
+    are measured; a budgeted frame times its stages until its cost model is calibrated, then every
+    ``timing_interval``-th frame, and its model learns from those alone (the frames between: NaN
+    stages, ``budget_met`` None)."""
     import math
 
     from hybrid_integrator.raster.camera import sensor_to_world
@@ -299,10 +301,24 @@ def test_stage_times_off_renders_the_same_frames_without_the_kernel_history():
         assert a.stats.times_ms["trace"] > 0 and a.stats.times_ms["lighting"] > 0
         assert all(math.isnan(b.stats.times_ms[k]) for k in ("raster", "lighting", "select", "trace", "compose"))
         assert b.stats.times_ms["total"] > 0 and b.stats.times_ms["denoise"] > 0
-    integrator = mi.load_dict({"type": "hybrid", "stage_times": False})
-    assert integrator.settings.stage_times is False and not integrator.settings.times_stages
-    budgeted = hi.render_sequence(scene, still + still[:1], seed=3, layers=False, stage_times=False, budget_ms=50.0)
-    assert all(r.stats.stages_timed and r.stats.times_ms["trace"] > 0 for r in budgeted)
+    integrator = mi.load_dict({"type": "hybrid", "stage_times": False, "timing_interval": 3})
+    assert integrator.settings.stage_times is False and not integrator.settings.times_frame()
+    assert integrator.settings.timing_interval == 3
+    with pytest.raises(HybridError, match="timing_interval=0"):
+        hi.render(scene, timing_interval=0)
+    budgeted = hi.api._integrator({"stage_times": False, "budget_ms": 50.0, "timing_interval": 3})
+    observed = []
+    for seed in range(10):
+        stats = budgeted.render_result(scene, seed=seed, layers=False).stats
+        observed.append(len(budgeted.state.cost_model.history))
+        # the three probe frames, then the frames after 3, 6 and 9 learnt
+        if seed < 3 or seed % 3 == 0:
+            assert stats.stages_timed and stats.times_ms["trace"] > 0 and stats.budget_met is True, seed
+        else:
+            assert not stats.stages_timed and math.isnan(stats.times_ms["trace"]) and stats.budget_met is None, seed
+            assert stats.times_ms["total"] > 0 and stats.secondary_rays > 0  # traced all the same
+    assert observed == [1, 2, 3, 4, 4, 4, 5, 5, 5, 6], observed  # the model learns from the timed frames alone
+    assert all(r.stats.stages_timed for r in hi.render_sequence(scene, still, seed=3, layers=False, budget_ms=50.0))
 
 
 def test_stage_times_are_read_once_the_device_passes_are_done():

@@ -1,19 +1,19 @@
 """What a budgeted frame would gain if its trace's device time came without Dr.Jit's kernel
 history (issue 10, stop 59).
 
-A budgeted frame keeps the kernel history on (``HybridSettings.times_stages``): its cost model
-learns the trace stage's device time from it, the one clock inside a frozen replay. The history
-costs the frame's host a pair of CUDA events per launch in the replay, before the GPU reaches the
-trace, and their readout (``history_cost.py``). Here, per scene and budget (fractions
-``--budgets`` of the all-candidates trace time), along the scene's camera path, three sides render
-in turn (rounds of ``--block`` frames, the first of each not measured; ``bench.frames_in_turn``):
-the RT baseline, the budgeted hybrid as it is (``timed``), and the same with its stages timed only
-on every ``--every``-th frame (``sampled``; between them the history is off, the cost model learns
-nothing, and the frame's trace time is NaN). The probe switches ``times_stages`` per frame through
-``frames_in_turn``'s ``before`` and keeps the cost model from observing an untimed trace; nothing
-of this is in the package. Prints each side's median frame, the sampled side's untimed frames
-apart, the paired ratios, and over the timed frames of each budgeted side the share within
-budget + 10 %.
+A budgeted frame's cost model learns the trace stage's device time from Dr.Jit's kernel history,
+the one clock inside a frozen replay. The history costs the frame's host a pair of CUDA events per
+launch in the replay, before the GPU reaches the trace, and their readout (``history_cost.py``).
+Here, per scene and budget (fractions ``--budgets`` of the all-candidates trace time), along the
+scene's camera path, three sides render in turn (rounds of ``--block`` frames, the first of each
+not measured; ``bench.frames_in_turn``): the RT baseline, the budgeted hybrid with its stages timed
+on every frame (``timed``: ``stage_times`` on), and the same without stage times, so that it times
+its trace only on every ``--every``-th frame (``sampled``: ``stage_times=false``,
+``timing_interval``; between them the history is off, the cost model learns nothing, and the
+frame's trace time is NaN). Prints each side's median frame, the sampled side's untimed frames
+apart, the paired ratios, and over the timed frames of each budgeted side the share within budget
++ 10 %. (Its first version, at commit bcb53e5, switched the package's timing per frame itself:
+the package had no such setting then.)
 
     python3 docs/results/gpu/issue10/stop59/untimed_budget.py scenes/many_objects.xml --variant cuda_ad_rgb --frames 40
 """
@@ -37,33 +37,18 @@ def main() -> None:
 
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
-    from hybrid_integrator.budget import CostModel
-    from hybrid_integrator.pipeline import HybridSettings
 
     hi.register()
-    timed_property, observe = HybridSettings.times_stages, CostModel.observe
-    CostModel.observe = lambda self, rays, ms, *a, **k: None if math.isnan(ms) else observe(self, rays, ms, *a, **k)
-    count = {"sampled": 0}
-
-    def use(name: str) -> None:
-        if name == "sampled":
-            count["sampled"] += 1
-            timed = count["sampled"] % args.every == 0 or count["sampled"] <= WARM * args.block
-            HybridSettings.times_stages = property(lambda self: timed)
-        else:
-            HybridSettings.times_stages = timed_property
-
     params = dict(args.defines)
     for path in args.scenes:
         ready = turn_scene(str(path), params, turn_poses(args.frames, WARM, args.block))
         print(f"{ready.name}: all-candidates trace {ready.all_candidates_trace_ms:.3f} ms", flush=True)
         for fraction in args.budgets:
             budget = fraction * ready.all_candidates_trace_ms
-            sides = {"rt": {"primary": "raytrace"}, "timed": {"budget_ms": budget}, "sampled": {"budget_ms": budget}}
-            count["sampled"] = 0
+            sides = {"rt": {"primary": "raytrace"}, "timed": {"budget_ms": budget},
+                     "sampled": {"budget_ms": budget, "stage_times": False, "timing_interval": args.every}}
             times = frames_in_turn(ready.scene, sides, args.frames, 1, 0, warmup=WARM, block=args.block,
-                                   cameras=ready.cameras, before=use, host_speed=True)
-            HybridSettings.times_stages = timed_property
+                                   cameras=ready.cameras, host_speed=True)
             untimed = [t["total"] for t in times["sampled"] if math.isnan(t["trace"])]
             print(f"{ready.name:16s} {fraction:.0%} budget ({budget:.3f} ms): frame ms "
                   + ", ".join(f"{s} {statistics.median(t['total'] for t in times[s]):.3f}" for s in sides)
@@ -78,7 +63,6 @@ def main() -> None:
                 traced = [t["trace"] for t in times[name] if not math.isnan(t["trace"])]
                 print(f"    {name}: within budget + 10 % {statistics.mean(x <= 1.1 * budget for x in traced):.2f} "
                       f"of {len(traced)} timed frames, trace {statistics.median(traced):.3f} ms", flush=True)
-    CostModel.observe = observe
 
 
 if __name__ == "__main__":
