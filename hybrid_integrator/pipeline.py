@@ -174,8 +174,9 @@ class HybridSettings:
     #: with a budget and ``stage_times`` off, how often a frame reads the trace's device time (1:
     #: every frame). The kernel history is the one clock inside the frozen device pass, and it costs
     #: a budgeted frame's host a pair of CUDA events per launch, before the GPU reaches the trace,
-    #: and their readout: on an H200 whose CPUs ran slow, frames without it were 0.30-0.89 ms
-    #: shorter along the 226 objects' path at 25-75 % (docs/results/gpu/issue10/stop59)
+    #: and their readout: on an H200, frames without it were 0.2-0.9 ms shorter along the 226
+    #: objects' path at 25-75 %, and a budget timed every 4th frame 1.04-1.19x as fast as one timed
+    #: on every frame, in turn (docs/results/gpu/issue10/stop59)
     timing_interval: int = 4
 
     @property

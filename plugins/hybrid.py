@@ -156,9 +156,10 @@ Properties
                  (default 4; 1: every frame), and every frame until the model is calibrated; the
                  frames between report NaN stages and ``stats.budget_met`` None. The kernel history
                  costs a budgeted frame, bound by its host, a pair of CUDA events per launch before
-                 the GPU reaches the trace and their readout: on an H200 whose CPUs ran slow, the
-                 frames without it were 0.30-0.89 ms shorter along the 226 objects' camera path at
-                 25-75 % budgets (``bash docs/results/gpu/issue10/stop59/run.sh untimed``).
+                 the GPU reaches the trace and their readout: on an H200 the frames without it
+                 were 0.2-0.9 ms shorter along the 226 objects' camera path at 25-75 % budgets, and
+                 a budget timed every 4th frame 1.04-1.19× as fast as one timed on every frame, in
+                 turn (``bash docs/results/gpu/issue10/stop59/run.sh untimed``).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 ``rr_tail_depth``, ``rr_tail_prob``  past ``rr_depth`` a path goes on with probability
                  min(max throughput · η², 0.95), as in ``path``; from depth ``rr_tail_depth`` on
