@@ -15,6 +15,9 @@ captured, the frames that trace something and that finish within budget + 10 %, 
 next plans came from.
 
     python3 docs/results/gpu/issue10/stop59/plan_ab.py scenes/many_objects.xml --variant cuda_ad_rgb --frames 40
+
+It runs at commit 57774bd only: the change it measures was reverted (bcd6c3d), and later trees
+have no ``HybridRenderer._plans_from``.
 """
 from __future__ import annotations
 
