@@ -209,6 +209,27 @@ class FrameState:
     next_plan: tuple | None = None
     #: the frames that have learnt from their counts into this state
     frames: int = 0
+    #: the last few frames' wall times (ms; :meth:`watch`)
+    totals: deque = field(default_factory=lambda: deque(maxlen=8))
+    #: the last frame took longer than the ones before it by over half its budget: the next frame
+    #: times its trace whatever ``timing_interval`` says (``pipeline.HybridSettings.times_frame``)
+    jumped: bool = False
+
+    def watch(self, total_ms: float, budget_ms: float, timed: bool) -> None:
+        """A budgeted frame's wall time against the untimed frames before it. A frame that does
+        not time its trace cannot tell that it overran its budget, and its cost model learns
+        nothing from it; a plan that overruns, made by a model that the next timed frame would
+        correct, could repeat until then. Such a frame is seen from outside, though: it takes
+        longer than the frames before it. So an untimed frame more than half its budget longer
+        than the median of the last few untimed ones marks the next frame to be timed
+        (``jumped``); the host's own changes of speed (stop 58) mark some more, which costs those
+        frames their history's time, nothing else. A timed frame, longer by its history's cost,
+        is compared with nothing and clears the mark."""
+        if timed:
+            self.jumped = False
+            return
+        self.jumped = len(self.totals) >= 3 and total_ms > statistics.median(self.totals) + 0.5 * budget_ms
+        self.totals.append(total_ms)
 
     @property
     def error_per_pixel(self) -> np.ndarray:

@@ -168,8 +168,8 @@ class HybridSettings:
     #: frame (-0.08 to +0.03 ms on two scenes), 0.05-0.10 for DR's (docs/results/gpu/issue10/stop51;
     #: 0.19-0.26 for the hybrid before, stop 50).
     #: Off, a budgeted frame still times its stages on every ``timing_interval``-th frame of its
-    #: sequence, and on every frame until its cost model is calibrated: the model learns the
-    #: trace's time from those (:meth:`times_frame`)
+    #: sequence, on every frame until its cost model is calibrated, and after an untimed frame
+    #: whose wall time jumped: the model learns the trace's time from those (:meth:`times_frame`)
     stage_times: bool = True
     #: with a budget and ``stage_times`` off, how often a frame reads the trace's device time (1:
     #: every frame). The kernel history is the one clock inside the frozen device pass, and it costs
@@ -190,17 +190,19 @@ class HybridSettings:
         learns from the trace's time, which only a synchronization gives; ``inflight.py``)."""
         return self.frames_in_flight > 1 and self.budget_ms <= 0
 
-    def times_frame(self, frames: int = 0, calibrated: bool = True) -> bool:
+    def times_frame(self, frames: int = 0, calibrated: bool = True, jumped: bool = False) -> bool:
         """Whether a frame keeps and reads Dr.Jit's kernel history for its stages' device times:
-        with ``stage_times``; without, a budgeted frame whose cost model is not calibrated yet, or
+        with ``stage_times``; without, a budgeted frame whose cost model is not calibrated yet,
         whose sequence has learnt from a multiple of ``timing_interval`` frames before it
-        (``frames``); never in flight (Dr.Jit reads its history only after a synchronization, so
-        a frame in flight never reads it: until stop 50 it kept one anyway, its events recorded
-        for nothing). ``dr.freeze`` keeps a recording per state of the history's flag, so that
-        timed and untimed frames each replay their own."""
+        (``frames``), or that follows a frame whose wall time jumped (``jumped``:
+        ``budget.FrameState.watch``); never in flight (Dr.Jit reads its history only after a
+        synchronization, so a frame in flight never reads it: until stop 50 it kept one anyway,
+        its events recorded for nothing). ``dr.freeze`` keeps a recording per state of the
+        history's flag, so that timed and untimed frames each replay their own."""
         if self.in_flight:
             return False
-        return self.stage_times or (self.budget_ms > 0 and (not calibrated or frames % self.timing_interval == 0))
+        return self.stage_times or (self.budget_ms > 0 and (not calibrated or jumped
+                                                            or frames % self.timing_interval == 0))
 
     def _check_types(self) -> None:
         """Each property of a plain type has a value of that type (Mitsuba's own properties are
@@ -831,7 +833,7 @@ class HybridRenderer:
         state = state if state is not None else FrameState()
         next_pose = None if next_camera is None else camera_pose(next_camera)  # checked before any work
         spp, seed = check_frame_numbers(spp, seed)
-        timed = settings.times_frame(state.frames, state.cost_model.calibrated)
+        timed = settings.times_frame(state.frames, state.cost_model.calibrated, state.jumped)
         with dr.scoped_set_flag(dr.JitFlag.KernelHistory, timed):
             dr.kernel_history_clear()
             clock = _HostClock()
@@ -940,6 +942,8 @@ class HybridRenderer:
             clock.lap("sync")
             self._account_times(settings, frame, state, learnt, clock, stage_ms)
             frame.stats.times_ms["total"] = clock.elapsed()
+            if settings.budget_ms > 0:
+                state.watch(frame.stats.times_ms["total"], settings.budget_ms, frame.timed)
         else:  # its times and its lesson once the GPU is done with it
             self._in_flight = InFlight(frame=frame, span=span, after=after, settings=settings, state=state, copy=copy, counts=counts)
             frame.stats.in_flight = True

@@ -153,8 +153,10 @@ Properties
                  ``stage_times`` a budget still times every ``timing_interval``-th frame.
 ``timing_interval``  with a budget and ``stage_times`` false, a frame times its stages (and its
                  cost model learns from its trace) every ``timing_interval`` frames of a sequence
-                 (default 4; 1: every frame), and every frame until the model is calibrated; the
-                 frames between report NaN stages and ``stats.budget_met`` None. The kernel history
+                 (default 4; 1: every frame), every frame until the model is calibrated, and the
+                 frame after an untimed one whose wall time jumped by over half the budget (its
+                 overrun, unseen, is timed then); the frames between report NaN stages and
+                 ``stats.budget_met`` None. The kernel history
                  costs a budgeted frame, bound by its host, a pair of CUDA events per launch before
                  the GPU reaches the trace and their readout: on an H200 the frames without it
                  were 0.2-0.9 ms shorter along the 226 objects' camera path at 25-75 % budgets, and

@@ -3,6 +3,7 @@ convergence to Mitsuba's path, composition, the XML/mi.render route and ray coun
 from __future__ import annotations
 
 import json
+import statistics
 
 import drjit as dr
 import mitsuba as mi
@@ -473,3 +474,40 @@ def test_cli_compare_reports_time_and_error(tmp_path, capsys, monkeypatch):
     assert cli(args) == 0  # the ground truth now comes from the cache
     assert json.loads((tmp_path / "cmp" / "compare.json").read_text())["ground_truth"]["cached"]
     capsys.readouterr()
+
+
+def test_an_untimed_budget_frame_that_overruns_has_the_next_frame_timed():
+    """Without stage times a budgeted frame that is not timed cannot see its own overrun; its wall
+    time can. A plan that traces far beyond the budget (here: a cost model made to expect nothing
+    to cost anything) makes its frame longer than the untimed frames before it by over half the
+    budget, so the next frame is timed, sees the trace above its prediction, and the model learns
+    from it, though ``timing_interval`` would time no frame after the probes
+    (``budget.FrameState.watch``). The host's noise may mark some frames more (timed for nothing)."""
+    import math
+
+    scene = hi.load_scene(DEFAULT_SCENE, resx=96, resy=54)
+    everything = [hi.render(scene, seed=k, spp=1, layers=False, denoise=False).stats.times_ms["trace"] for k in range(4)]
+    budget = 0.5 * float(np.median(everything[1:]))
+    integrator = hi.api._integrator({"stage_times": False, "budget_ms": budget, "timing_interval": 10 ** 6,
+                                     "denoise": False})
+    frames = [integrator.render_result(scene, seed=k, spp=1, layers=False).stats for k in range(10)]
+    assert [f.stages_timed for f in frames[:3]] == [True] * 3  # the probes
+    untimed = [f for f in frames[3:] if not f.stages_timed]
+    assert len(untimed) >= 3 and all(f.budget_met is None and math.isnan(f.times_ms["trace"]) for f in untimed)
+    model = integrator.state.cost_model
+    observed = len(model.history)
+    model.current().rates, model.launch_ms = dict.fromkeys(model.rates, 0.0), 1e-9  # everything fits
+    after = [integrator.render_result(scene, seed=10 + k, spp=1, layers=False).stats for k in range(4)]
+    # the plan that traces everything overruns, and a frame of the next three is timed and sees it
+    timed = [f for f in after if f.stages_timed]
+    assert timed and timed[0].times_ms["trace"] > timed[0].predicted_trace_ms and not timed[0].budget_met
+    assert len(model.history) > observed  # the model learnt from it
+    # the rule itself: an untimed frame over the median of the untimed ones before it (of the last
+    # eight) by half the budget has the next frame timed
+    seen, steady = [], frames[3:] + after
+    for f, following in zip(steady, steady[1:]):
+        if f.stages_timed:
+            continue
+        if len(seen) >= 3 and f.times_ms["total"] > statistics.median(seen[-8:]) + 0.5 * budget:
+            assert following.stages_timed
+        seen.append(f.times_ms["total"])
