@@ -216,7 +216,10 @@ def _bench_options(args) -> list[str]:
                "--accuracy" if args.accuracy else "--no-accuracy"]
     for name, value in _properties(args).items():
         flag = "--" + name.replace("_", "-")
-        options += [flag] if value is True else [flag, str(value)]
+        if isinstance(value, bool):  # a boolean option takes no value: --flag or --no-flag
+            options.append(flag if value else "--no-" + flag[2:])
+        else:
+            options += [flag, str(value)]
     for name, value in args.defines:
         options += ["-D", f"{name}={value}"]
     return options

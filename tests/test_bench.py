@@ -95,6 +95,23 @@ def test_bench_without_accuracy_writes_times_and_no_chart(tmp_path):
     assert f"default {host['start']['min_ms']:.3f} / {host['start']['median_ms']:.3f}" in (tmp_path / "bench.md").read_text()
 
 
+def test_bench_hands_an_option_turned_off_to_its_child(tmp_path):
+    """A boolean integrator option turned off (``--no-stage-times``) reaches the bench's child
+    process as that flag, not as ``--stage-times False`` (which the child's parser refused: the
+    bench of every scene failed); with it, the budget's frames time every ``--timing-interval``-th."""
+    from hybrid_integrator.cli import _bench_options, _parser
+
+    args = _parser().parse_args(["bench", str(DEFAULT_SCENE), "--no-stage-times", "--no-denoise", "--timing-interval", "2"])
+    options = _bench_options(args)
+    assert {"--no-stage-times", "--no-denoise"} <= set(options) and "False" not in options
+    assert options[options.index("--timing-interval") + 1] == "2"
+    done = bench(str(DEFAULT_SCENE), *TINY, "--no-accuracy", "--no-stage-times", "--timing-interval", "2",
+                 "-o", str(tmp_path))
+    assert done.returncode == 0, done.stderr[-2000:]
+    (report,) = json.loads((tmp_path / "bench.json").read_text())
+    assert "--no-stage-times" in report["command"] and report["hybrid_ms"] > 0
+
+
 def test_bench_scaling_by_triangles(tmp_path):
     out = tmp_path / "triangles"
     done = bench("--scaling", "triangles", "--values", "2000", "8000", "-D", "resx=48", "-D", "resy=32",
