@@ -74,6 +74,7 @@ import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
@@ -213,6 +214,18 @@ def turn_arguments(description: str, budgets=(0.5,), block: int | None = None) -
     if block is not None:
         parser.add_argument("--block", type=int, default=block, help="frames per side and round")
     return parser
+
+
+def turn_budgets(args: argparse.Namespace, warmup: int) -> Iterator[tuple[TurnScene, float, float]]:
+    """A probe's scenes and budgets from its :func:`turn_arguments` (the variant set and the
+    plugin registered): each scene made ready (:func:`turn_scene`, with the poses
+    :func:`turn_poses` gives for ``warmup`` rounds of ``args.block`` frames; its all-candidates trace
+    time printed), then each fraction of ``args.budgets`` as (scene, fraction, budget ms)."""
+    for path in args.scenes:
+        ready = turn_scene(str(path), dict(args.defines), turn_poses(args.frames, warmup, args.block))
+        print(f"{ready.name}: all-candidates trace {ready.all_candidates_trace_ms:.3f} ms", flush=True)
+        for fraction in args.budgets:
+            yield ready, fraction, fraction * ready.all_candidates_trace_ms
 
 
 def turn_poses(frames: int, warmup: int = 3, block: int = 1) -> int:

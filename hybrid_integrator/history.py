@@ -87,11 +87,8 @@ def _entries(data) -> Iterator[_Entry]:
     """The entries of the array ``jit_kernel_history`` returned, up to the one of backend 0 that
     ends it."""
     base = ctypes.cast(data, ctypes.c_void_p).value
-    for k in itertools.count():
-        entry = _Entry.from_address(base + k * _SIZE)
-        if entry.backend == 0:
-            return
-        yield entry
+    for k in range(_count(base)):
+        yield _Entry.from_address(base + k * _SIZE)
 
 
 def _count(base: int) -> int:

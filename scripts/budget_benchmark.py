@@ -131,25 +131,26 @@ def main() -> None:
                                          path_cameras, turn_poses)
     warm = PROBES + 2  # the budget's probe frames, then two to settle
     sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}
-    turn = frames_in_turn(scene, sides, args.frames, 1, 0,
-                          warmup=warm, cameras=path_cameras(args.scene, turn_poses(args.frames, warm)), host_speed=True)
-    paired, by_host = paired_ratio(turn, "rt", "budget"), paired_ratio_by_host(turn, "rt", "budget")
-    print("RT / 50 % in turn", paired, by_host, flush=True)
+
+    def in_turn(label: str, turn_sides: dict, warmup: int, block: int = 1) -> tuple[dict, dict, dict]:
+        """The two sides in turn along the path (the host's speed taken before each frame): their
+        times, RT / 50 % of the pairs, and the same by the host's speed."""
+        times = frames_in_turn(scene, turn_sides, args.frames, 1, 0, warmup=warmup, block=block, host_speed=True,
+                               cameras=path_cameras(args.scene, turn_poses(args.frames, warmup, block)))
+        ratio, split = paired_ratio(times, "rt", "budget", block), paired_ratio_by_host(times, "rt", "budget", block)
+        print(f"RT / 50 % in turn{label}", ratio, split, flush=True)
+        return times, ratio, split
+
+    _, paired, by_host = in_turn("", sides, warm)
     # by blocks (5.); two warm-up rounds: the probes and more
-    blocks = frames_in_turn(scene, sides, args.frames, 1, 0, warmup=2, block=TURN_BLOCK,
-                            cameras=path_cameras(args.scene, turn_poses(args.frames, 2, TURN_BLOCK)), host_speed=True)
-    paired_blocks = paired_ratio(blocks, "rt", "budget", TURN_BLOCK)
-    blocks_by_host = paired_ratio_by_host(blocks, "rt", "budget", TURN_BLOCK)
-    print("RT / 50 % in turn by blocks", paired_blocks, blocks_by_host, flush=True)
+    _, paired_blocks, blocks_by_host = in_turn(" by blocks", sides, 2, TURN_BLOCK)
     # (7.) as shipped: no stage times but what the budget needs
-    shipped = frames_in_turn(scene, {name: dict(props, stage_times=False) for name, props in sides.items()}, args.frames,
-                             1, 0, warmup=warm, cameras=path_cameras(args.scene, turn_poses(args.frames, warm)),
-                             host_speed=True)
-    paired_shipped, shipped_by_host = paired_ratio(shipped, "rt", "budget"), paired_ratio_by_host(shipped, "rt", "budget")
+    shipped, paired_shipped, shipped_by_host = in_turn(
+        ", as shipped", {name: dict(props, stage_times=False) for name, props in sides.items()}, warm)
     timed = np.array([t["trace"] for t in shipped["budget"] if np.isfinite(t["trace"])])
     shipped_within = {"timed_frames": int(len(timed)), "frames": len(shipped["budget"]),
                       "within_budget_plus_10": float(np.mean(timed <= 1.1 * sides["budget"]["budget_ms"]))}
-    print("RT / 50 % in turn, as shipped", paired_shipped, shipped_by_host, shipped_within, flush=True)
+    print("frames of the 50 % side as shipped", shipped_within, flush=True)
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
@@ -174,18 +175,15 @@ def main() -> None:
           f"(median, device): **{all_ms:.2f} ms**; RT baseline frame: {rt_ms:.2f} ms. Budgeted runs are "
           f"measured after their {PROBES} probe frames.", "",
           f"RT baseline / 50 % frame (nested), frame by frame in turn along the path (`bench.frames_in_turn`, "
-          f"{warm} warm-up rounds, {paired['pairs']} pairs): **{paired['median']:.2f}** [{paired['q25']:.2f}, "
-          f"{paired['q75']:.2f}] (RT {paired['rt_ms']:.2f} ms, 50 % {paired['budget_ms']:.2f} ms).", "",
+          f"{warm} warm-up rounds, {paired['pairs']} pairs): {_ratio(paired)}.", "",
           f"The same by blocks of {TURN_BLOCK} frames along the path, the first of each not measured "
-          f"({paired_blocks['pairs']} rounds): **{paired_blocks['median']:.2f}** [{paired_blocks['q25']:.2f}, "
-          f"{paired_blocks['q75']:.2f}] (RT {paired_blocks['rt_ms']:.2f} ms, 50 % {paired_blocks['budget_ms']:.2f} ms).", "",
+          f"({paired_blocks['pairs']} rounds): {_ratio(paired_blocks)}.", "",
           "By the host's speed before each frame (`bench.paired_ratio_by_host`: a pair is fast where every loop of its "
           f"frames took at most {FAST_HOST} × the fastest): frame by frame {_by_host(by_host)}; by blocks "
           f"{_by_host(blocks_by_host)}.", "",
           "As a renderer ships them (`stage_times=false` on both sides, as `hybrid bench` times its frames: the "
           "budget times its trace every `timing_interval`-th frame and learns from those), frame by frame in turn "
-          f"({paired_shipped['pairs']} pairs): **{paired_shipped['median']:.2f}** [{paired_shipped['q25']:.2f}, "
-          f"{paired_shipped['q75']:.2f}] (RT {paired_shipped['rt_ms']:.2f} ms, 50 % {paired_shipped['budget_ms']:.2f} ms); "
+          f"({paired_shipped['pairs']} pairs): {_ratio(paired_shipped)}; "
           f"by the host's speed {_by_host(shipped_by_host)}; within budget + 10 %: "
           f"{shipped_within['within_budget_plus_10']:.0%} of the {shipped_within['timed_frames']} timed frames "
           f"(of {shipped_within['frames']}).", "",
@@ -203,12 +201,18 @@ def main() -> None:
     print("\n".join(md))
 
 
+def _ratio(r: dict, pairs: bool = False) -> str:
+    """A :func:`bench.paired_ratio` result (RT over the 50 % frame) in words."""
+    counted = f"{r['pairs']} pairs; " if pairs else ""
+    return (f"**{r['median']:.2f}** [{r['q25']:.2f}, {r['q75']:.2f}] "
+            f"({counted}RT {r['rt_ms']:.2f} ms, 50 % {r['budget_ms']:.2f} ms)")
+
+
 def _by_host(split: dict) -> str:
     """A :func:`bench.paired_ratio_by_host` result in words."""
     def side(label: str) -> str:
         r = split[label]
-        return f"{label} host –" if r is None else (f"{label} host **{r['median']:.2f}** [{r['q25']:.2f}, {r['q75']:.2f}] "
-                                                    f"({r['pairs']} pairs; RT {r['rt_ms']:.2f} ms, 50 % {r['budget_ms']:.2f} ms)")
+        return f"{label} host –" if r is None else f"{label} host {_ratio(r, pairs=True)}"
     return f"{side('fast')}, {side('slow')} ({split['fast_share']:.0%} of the pairs fast, fastest loop {split['fastest_loop_ms']:.3f} ms)"
 
 

@@ -26,8 +26,7 @@ WARM = 3  # rounds not measured: the budget's three probe frames among them
 
 
 def main() -> None:
-    from hybrid_integrator.bench import (frames_in_turn, paired_ratio, paired_ratio_by_host, turn_arguments,
-                                         turn_poses, turn_scene)
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio, paired_ratio_by_host, turn_arguments, turn_budgets
 
     parser = turn_arguments(__doc__.splitlines()[0], budgets=(0.25, 0.5, 0.75), block=5)
     parser.add_argument("--every", type=int, default=4, help="the sampled side times every N-th frame")
@@ -39,30 +38,28 @@ def main() -> None:
     import hybrid_integrator as hi
 
     hi.register()
-    params = dict(args.defines)
-    for path in args.scenes:
-        ready = turn_scene(str(path), params, turn_poses(args.frames, WARM, args.block))
-        print(f"{ready.name}: all-candidates trace {ready.all_candidates_trace_ms:.3f} ms", flush=True)
-        for fraction in args.budgets:
-            budget = fraction * ready.all_candidates_trace_ms
-            sides = {"rt": {"primary": "raytrace"}, "timed": {"budget_ms": budget},
-                     "sampled": {"budget_ms": budget, "stage_times": False, "timing_interval": args.every}}
-            times = frames_in_turn(ready.scene, sides, args.frames, 1, 0, warmup=WARM, block=args.block,
-                                   cameras=ready.cameras, host_speed=True)
-            untimed = [t["total"] for t in times["sampled"] if math.isnan(t["trace"])]
-            print(f"{ready.name:16s} {fraction:.0%} budget ({budget:.3f} ms): frame ms "
-                  + ", ".join(f"{s} {statistics.median(t['total'] for t in times[s]):.3f}" for s in sides)
-                  + f", sampled's untimed frames {statistics.median(untimed):.3f} ({len(untimed)})", flush=True)
-            for a, b in (("timed", "sampled"), ("rt", "timed"), ("rt", "sampled")):
-                r, h = paired_ratio(times, a, b, block=args.block), paired_ratio_by_host(times, a, b, block=args.block)
-                split = ", ".join(f"{label} {h[label]['median']:.3f} ({h[label]['pairs']})" if h[label] else f"{label} -"
-                                  for label in ("fast", "slow"))
-                print(f"    {a} / {b}: {r['median']:.3f} [{r['q25']:.3f}, {r['q75']:.3f}] ({r['pairs']} rounds); by host: {split}",
-                      flush=True)
-            for name in ("timed", "sampled"):
-                traced = [t["trace"] for t in times[name] if not math.isnan(t["trace"])]
-                print(f"    {name}: within budget + 10 % {statistics.mean(x <= 1.1 * budget for x in traced):.2f} "
-                      f"of {len(traced)} timed frames, trace {statistics.median(traced):.3f} ms", flush=True)
+    for ready, fraction, budget in turn_budgets(args, WARM):
+        sides = {"rt": {"primary": "raytrace"}, "timed": {"budget_ms": budget},
+                 "sampled": {"budget_ms": budget, "stage_times": False, "timing_interval": args.every}}
+        times = frames_in_turn(ready.scene, sides, args.frames, 1, 0, warmup=WARM, block=args.block,
+                               cameras=ready.cameras, host_speed=True)
+        untimed = [t["total"] for t in times["sampled"] if math.isnan(t["trace"])]
+        print(f"{ready.name:16s} {fraction:.0%} budget ({budget:.3f} ms): frame ms "
+              + ", ".join(f"{s} {statistics.median(t['total'] for t in times[s]):.3f}" for s in sides)
+              + f", sampled's untimed frames {statistics.median(untimed):.3f} ({len(untimed)})", flush=True)
+        for a, b in (("timed", "sampled"), ("rt", "timed"), ("rt", "sampled")):
+            r, h = paired_ratio(times, a, b, block=args.block), paired_ratio_by_host(times, a, b, block=args.block)
+            split = ", ".join(f"{label} {h[label]['median']:.3f} ({h[label]['pairs']})" if h[label] else f"{label} -"
+                              for label in ("fast", "slow"))
+            print(f"    {a} / {b}: {r['median']:.3f} [{r['q25']:.3f}, {r['q75']:.3f}] ({r['pairs']} rounds); by host: {split}",
+                  flush=True)
+        for name in ("timed", "sampled"):
+            traced = [t["trace"] for t in times[name] if not math.isnan(t["trace"])]
+            if not traced:  # none of its measured frames timed (a long --every)
+                print(f"    {name}: no timed frame", flush=True)
+                continue
+            print(f"    {name}: within budget + 10 % {statistics.mean(x <= 1.1 * budget for x in traced):.2f} "
+                  f"of {len(traced)} timed frames, trace {statistics.median(traced):.3f} ms", flush=True)
 
 
 if __name__ == "__main__":
