@@ -10,6 +10,8 @@
 #     stage times on and off, in turn
 #   N=2 bash docs/results/gpu/issue10/stop59/run.sh untimed          # untimed_budget.py: a budget timing every frame
 #     against every 4th, in turn with the RT baseline, along the 226 objects' path
+#   bash docs/results/gpu/issue10/stop59/run.sh benchab [SCENE...]   # hybrid bench per scene, its budget rows timed on
+#     every frame (--timing-interval 1: before) then as shipped (after), one process each
 source docs/results/gpu/issue10/stop31/env.sh
 mkdir -p $OUT; T0=$SECONDS
 mode=$1; shift
@@ -29,5 +31,10 @@ case $mode in
              timeout $((590 - SECONDS + T0)) python3 docs/results/gpu/issue10/stop59/untimed_budget.py scenes/many_objects.xml \
                --variant cuda_ad_rgb $D --frames 40 "$@" 2>&1 | grep -v -P "^(jit_optix|\t|Info|\s*$)" | tee $OUT/untimed${RUN:-}_$k.txt
            done ;;
+  benchab) for s in ${*:-showcase sponza_mirror dining_room armadillo_glass}; do for side in before after; do
+             opt=""; [ $side = before ] && opt="--timing-interval 1"  # before: the budget timed on every frame
+             python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1 \
+               --budgets 0.25 0.5 0.75 $opt $D scenes/$s.xml -o $OUT/bench_$side/$s > $OUT/${s}_$side.log 2>&1
+             echo "$s $side rc=$?"; done; done ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
