@@ -236,7 +236,7 @@ def turn_poses(frames: int, warmup: int = 3, block: int = 1) -> int:
 
 def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: int, seed: int,
                    warmup: int = 3, before=None, block: int = 1, cameras=None,
-                   host_speed: bool = False) -> dict[str, list[dict]]:
+                   host_speed: bool = False, after=None) -> dict[str, list[dict]]:
     """One integrator per entry of ``sides`` (name → properties), each carrying its own state,
     rendering ``warmup`` + ``frames`` frames in turn (seed ``seed + k`` for all in round k; the
     order rotates from round to round, so that none always follows another); ``before(name)``, if
@@ -255,6 +255,10 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
     raster pass drawn ahead), so that each side's frames move along the path as in a sequence of
     its own (:func:`turn_poses` poses are needed); the sensor's own pose is restored after
     (``api.posed``). Without it, the sensor's pose throughout.
+
+    ``after(name, at, result)``, if given, is called after each measured frame (outside its time)
+    with its pose's index on the path (or the frame's number in its side's rounds) and its
+    ``HybridResult``: a probe's images and statistics.
 
     ``host_speed``: before each frame (outside its time) the host's speed is taken
     (:func:`host_loop_ms`), and each measured frame's entry has it as ``host_loop``
@@ -287,6 +291,8 @@ def frames_in_turn(scene: mi.Scene, sides: dict[str, dict], frames: int, spp: in
                     if k >= warmup and (block == 1 or j > 0) and len(times[name]) < frames:
                         entry = result.stats.times_ms
                         times[name].append(entry if loop is None else dict(entry, host_loop=loop))
+                        if after is not None:
+                            after(name, at, result)
             order = order[1:] + order[:1]
         finish(scene)  # the last frame's times, with frames_in_flight=2
     return times

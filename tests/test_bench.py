@@ -193,10 +193,15 @@ def test_frames_in_turn_along_a_camera_path():
     assert turn_poses(2, warmup=1, block=3) == 6
     cameras = hi.camera_path([((0, 0, 3.9), (0, 0, 0)), ((0.6, 0.2, 3.0), (0.1, -0.2, 0))], 6)
     seen = {"raster": [], "raytrace": []}
+    measured = []  # what ``after`` is given: each measured frame's side, pose and result
     times = frames_in_turn(scene, {"raster": {"denoise": False}, "raytrace": {"denoise": False, "primary": "raytrace"}},
                            frames=2, spp=1, seed=0, warmup=1, block=3, cameras=cameras,
-                           before=lambda name: seen[name].append(transform_matrix(params["to_world"])))
+                           before=lambda name: seen[name].append(transform_matrix(params["to_world"])),
+                           after=lambda name, at, result: measured.append((name, at, result.stats.times_ms)))
     assert [len(times[side]) for side in ("raster", "raytrace")] == [2, 2]
+    # the measured round is the second (poses 3-5), its first frame not measured
+    assert sorted((name, at) for name, at, _ in measured) == [("raster", 4), ("raster", 5), ("raytrace", 4), ("raytrace", 5)]
+    assert all(any(t is entry for t in times[name]) for name, _, entry in measured)
     for side in seen:
         assert [np.allclose(m, transform_matrix(c)) for m, c in zip(seen[side], cameras)] == [True] * 6
     with pytest.raises(HybridError, match="5 camera poses for 2 rounds of 3 frames"):
