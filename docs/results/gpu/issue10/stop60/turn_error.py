@@ -1,0 +1,140 @@
+"""Sides rendered in turn, along a scene's camera path or from its sensor: their time, relevance
+and image error against Mitsuba's ``path`` (issue 10, stop 60).
+
+Per scene and budget (fractions ``--budgets`` of the all-candidates trace time), the sides render in
+turn by rounds of ``--block`` frames (``bench.frames_in_turn``, the first frame of each round not
+measured), each carrying its own state. A side is ``--side NAME=JSON``: the integrator's
+properties, where ``"budget": true`` stands for the budget's ``budget_ms``, and ``"ambient":
+"mean"`` renders that side's frames with the learnt ambient table as it was before this stop (an
+object never traced took the mean of the learnt terms; now their median, never below zero:
+``lighting.ambient_table``). Prints each side's median frame, the paired ratios of the first side
+to each other and of the second to the third (also by the host's speed before each frame:
+``bench.paired_ratio_by_host``), each budgeted side's relevance captured and pixels traced (means
+over the measured frames) and its timed frames within budget + 10 %, and the image error of the
+third frame of every measured round (every side renders the same pose with the same seed)
+against ``path`` at ``--gt-spp`` from that pose: mean FLIP and relative MSE per side, and the
+paired FLIP difference of the third side minus the second.
+
+The default sides compare the ambient table's two fallbacks, beside the RT baseline:
+
+    python3 docs/results/gpu/issue10/stop60/turn_error.py scenes/many_objects.xml --variant cuda_ad_rgb --frames 40
+
+A moving camera planned ahead (``diffs/plan_ahead_always.diff`` applied; this stop's runs of it,
+``outputs/plan*.txt``, were made by this script's first version, ``plan_ahead_ab.py`` at dbe3b34,
+with these sides):
+
+    python3 docs/results/gpu/issue10/stop60/turn_error.py scenes/many_objects.xml --variant cuda_ad_rgb --frames 40 \\
+        --side 'rt={"primary": "raytrace", "stage_times": false}' --side 'still={"budget": true, "stage_times": false}' \\
+        --side 'always={"budget": true, "stage_times": false, "plan_ahead": "always"}'
+"""
+from __future__ import annotations
+
+import json
+import math
+import statistics
+
+import numpy as np
+
+WARM = 3
+KEPT = 2  # the frame of each round whose image is measured against the reference
+SIDES = {"rt": {"primary": "raytrace", "stage_times": False},
+         "mean": {"budget": True, "stage_times": False, "ambient": "mean"},
+         "median": {"budget": True, "stage_times": False}}
+
+
+def mean_fallback(learnt: np.ndarray, n_objects: int) -> np.ndarray:
+    """``lighting.ambient_table`` before this stop: an object never traced took the mean of the
+    learnt rows."""
+    table = np.zeros((max(n_objects, 1), 3), dtype=np.float32)
+    known = np.isfinite(learnt[:n_objects]).all(axis=1) if len(learnt) else np.zeros(0, dtype=bool)
+    if known.any():
+        table[:] = learnt[:n_objects][known].mean(axis=0)
+        table[:len(known)][known] = learnt[:n_objects][known]
+    return table
+
+
+def main() -> None:
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio, paired_ratio_by_host, turn_arguments, turn_budgets
+
+    parser = turn_arguments(__doc__.splitlines()[0], budgets=(0.25, 0.5, 0.75), block=5)
+    parser.add_argument("--gt-spp", type=int, default=256)
+    parser.add_argument("--side", action="append", default=[], type=lambda s: (s.split("=", 1)[0], json.loads(s.split("=", 1)[1])),
+                        help="NAME=JSON: a side's properties (default: rt, mean, median)")
+    args = parser.parse_args()
+    specs = dict(args.side) or SIDES
+
+    import mitsuba as mi
+
+    mi.set_variant(args.variant)
+    import hybrid_integrator as hi
+    from hybrid_integrator import pipeline
+    from hybrid_integrator.api import posed
+    from hybrid_integrator.compare import render_path
+    from hybrid_integrator.metrics import errors_in_parallel
+    from hybrid_integrator.raster.camera import camera_pose
+
+    hi.register()
+    shipped = pipeline.ambient_table
+    names = list(specs)
+    tests, keys = [], []  # images measured, and (scene, budget, side, pose) for each
+    truths: dict[tuple, np.ndarray | None] = {}
+    for ready, fraction, budget in turn_budgets(args, WARM):
+        sides = {name: {k: v for k, v in spec.items() if k not in ("budget", "ambient")}
+                 | ({"budget_ms": budget} if spec.get("budget") else {}) for name, spec in specs.items()}
+        stats: dict[str, list] = {s: [] for s in sides}
+
+        def before(name):
+            pipeline.ambient_table = mean_fallback if specs[name].get("ambient") == "mean" else shipped
+
+        def after(name, at, result):
+            stats[name].append(result.stats)
+            if at % args.block == KEPT:
+                pose = at if ready.cameras is not None else None
+                tests.append(np.array(result.image)[..., :3])
+                keys.append((ready.name, fraction, name, at))
+                truths.setdefault((ready.name, pose), None)
+
+        times = frames_in_turn(ready.scene, sides, args.frames, 1, 0, warmup=WARM, block=args.block,
+                               cameras=ready.cameras, before=before, after=after, host_speed=True)
+        pipeline.ambient_table = shipped
+        print(f"{ready.name:16s} {fraction:.0%} budget ({budget:.3f} ms): frame ms "
+              + ", ".join(f"{s} {statistics.median(t['total'] for t in times[s]):.3f}" for s in sides), flush=True)
+        for a, b in [(names[0], n) for n in names[1:]] + ([(names[1], names[2])] if len(names) > 2 else []):
+            r, h = paired_ratio(times, a, b, block=args.block), paired_ratio_by_host(times, a, b, block=args.block)
+            split = ", ".join(f"{label} {h[label]['median']:.3f} ({h[label]['pairs']})" if h[label] else f"{label} -"
+                              for label in ("fast", "slow"))
+            print(f"    {a} / {b}: {r['median']:.3f} [{r['q25']:.3f}, {r['q75']:.3f}] ({r['pairs']} rounds); by host: {split}",
+                  flush=True)
+        for name in (n for n in names if "budget_ms" in sides[n]):
+            s = stats[name]
+            traced = [t["trace"] for t in times[name] if not math.isnan(t["trace"])]
+            within = statistics.mean(x <= 1.1 * budget for x in traced) if traced else math.nan
+            print(f"    {name}: relevance captured {statistics.mean(f.relevance_captured for f in s):.3f}, "
+                  f"pixels traced {statistics.mean(f.pixels_traced for f in s):.0f}, "
+                  f"within budget + 10 % {within:.2f} of {len(traced)} timed frames", flush=True)
+        with posed(ready.scene.sensors()[0]) as place:
+            for (scene_name, pose), image in truths.items():
+                if scene_name == ready.name and image is None:
+                    if pose is not None:
+                        place(camera_pose(ready.cameras[pose]))
+                    truths[scene_name, pose] = np.array(render_path(ready.scene, args.gt_spp, -1, seed=10_000 + (pose or 0)))[..., :3]
+    paths = {k[0]: any(p is not None for s, p in truths if s == k[0]) for k in keys}
+    errors = errors_in_parallel(tests, [truths[k[0], k[3] if paths[k[0]] else None] for k in keys])
+    by = {k: e for k, e in zip(keys, errors)}
+    print(f"image error against path at {args.gt_spp} spp, the third frame of each measured round:")
+    for scene_name, fraction in dict.fromkeys((k[0], k[1]) for k in keys):
+        row = {side: [e for k, e in by.items() if k[:3] == (scene_name, fraction, side)] for side in names}
+        line = (f"    {scene_name:16s} {fraction:.0%}: mean FLIP / rel. MSE "
+                + ", ".join(f"{side} {statistics.mean(e.flip for e in v):.4f} / {statistics.mean(e.rel_mse for e in v):.4f}"
+                            for side, v in row.items() if v))
+        if len(names) > 2:
+            poses = sorted(k[3] for k in by if k[:3] == (scene_name, fraction, names[1]))
+            diff = [by[scene_name, fraction, names[2], p].flip - by[scene_name, fraction, names[1], p].flip for p in poses
+                    if (scene_name, fraction, names[2], p) in by]
+            line += (f"; {names[2]} - {names[1]} FLIP per frame: mean {statistics.mean(diff):+.4f}, "
+                     f"[{min(diff):+.4f}, {max(diff):+.4f}] ({len(diff)} frames)")
+        print(line, flush=True)
+
+
+if __name__ == "__main__":
+    main()
