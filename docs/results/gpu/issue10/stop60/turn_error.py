@@ -70,7 +70,7 @@ def main() -> None:
     from hybrid_integrator import pipeline
     from hybrid_integrator.api import posed
     from hybrid_integrator.compare import render_path
-    from hybrid_integrator.metrics import errors_in_parallel
+    from hybrid_integrator.metrics import ImageError, errors_in_parallel, relative_mse
     from hybrid_integrator.raster.camera import camera_pose
 
     hi.register()
@@ -119,8 +119,10 @@ def main() -> None:
                         place(camera_pose(ready.cameras[pose]))
                     truths[scene_name, pose] = np.array(render_path(ready.scene, args.gt_spp, -1, seed=10_000 + (pose or 0)))[..., :3]
     paths = {k[0]: any(p is not None for s, p in truths if s == k[0]) for k in keys}
-    errors = errors_in_parallel(tests, [truths[k[0], k[3] if paths[k[0]] else None] for k in keys])
-    by = {k: e for k, e in zip(keys, errors)}
+    references = [truths[k[0], k[3] if paths[k[0]] else None] for k in keys]
+    flips = errors_in_parallel(tests, references, flip_only=True)  # ΔE2000 left out: seconds per image
+    by = {k: ImageError(flip=f, rel_mse=relative_mse(t, r), delta_e2000=math.nan)
+          for k, f, t, r in zip(keys, flips, tests, references)}
     print(f"image error against path at {args.gt_spp} spp, the third frame of each measured round:")
     for scene_name, fraction in dict.fromkeys((k[0], k[1]) for k in keys):
         row = {side: [e for k, e in by.items() if k[:3] == (scene_name, fraction, side)] for side in names}
