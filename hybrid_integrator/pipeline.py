@@ -176,8 +176,8 @@ class HybridSettings:
     #: a budgeted frame's host a pair of CUDA events per launch, before the GPU reaches the trace,
     #: and their readout: on an H200, frames without it were 0.2-0.9 ms shorter along the 226
     #: objects' path at 25-75 %, and a budget timed every 4th frame 1.04-1.19x as fast as one timed
-    #: on every frame, in turn; the Armadillo's budgeted frames, bound by the GPU, 0.96-0.98x (cause
-    #: not measured; docs/results/gpu/issue10/stop59)
+    #: on every frame, in turn (docs/results/gpu/issue10/stop59); the Armadillo's budgeted frames, bound
+    #: by the GPU, 0.96-0.98x there, and 1.17-1.18x in stop 60's machine start (``ahead_ab.py``)
     timing_interval: int = 4
 
     @property

@@ -162,7 +162,8 @@ Properties
                  were 0.2-0.9 ms shorter along the 226 objects' camera path at 25-75 % budgets, and
                  a budget timed every 4th frame 1.04-1.19× as fast as one timed on every frame, in
                  turn (``bash docs/results/gpu/issue10/stop59/run.sh untimed``); but the
-                 Armadillo's budgeted frames, bound by the GPU, 0.96-0.98× (cause not measured).
+                 Armadillo's budgeted frames, bound by the GPU, 0.96-0.98× there, and 1.17-1.18×
+                 in another machine start (``bash docs/results/gpu/issue10/stop60/run.sh ahead``).
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 ``rr_tail_depth``, ``rr_tail_prob``  past ``rr_depth`` a path goes on with probability
                  min(max throughput · η², 0.95), as in ``path``; from depth ``rr_tail_depth`` on
