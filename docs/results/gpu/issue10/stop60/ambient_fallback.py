@@ -7,7 +7,8 @@ ambient term as they go, with each fallback for the objects never traced: ``off`
 (``learn_ambient=false``), ``mean`` (before this stop: ``turn_error.mean_fallback``), ``median``,
 and ``median+`` (now: the median, never below zero: ``lighting.ambient_table``). Prints each
 pose's FLIP of the last frame (denoised, unless ``--no-denoise``) against ``path`` at
-``--gt-spp``, then the mean over the poses.
+``--gt-spp``, and the learnt rows of the ten objects (the largest and smallest E, their mean and
+median), then the mean FLIP over the poses.
 
     .venv/bin/python docs/results/gpu/issue10/stop60/ambient_fallback.py --resx 320 --resy 180
 """
@@ -46,19 +47,12 @@ def main() -> None:
     from hybrid_integrator.raster.camera import camera_pose
 
     sys.path.insert(0, str(Path(__file__).parent))
-    from turn_error import mean_fallback
+    from turn_error import fallback_table, mean_fallback
 
     shipped = pipeline.ambient_table
-
-    def median(learnt, n_objects):  # the median, negative values passed on
-        table = shipped(learnt, n_objects)
-        known = np.isfinite(learnt[:n_objects]).all(axis=1) if len(learnt) else np.zeros(0, dtype=bool)
-        if known.any():
-            table[:len(known)][~known] = np.median(learnt[:n_objects][known], axis=0)
-            table[len(known):] = np.median(learnt[:n_objects][known], axis=0)
-        return table
-
-    fallbacks = {"off": shipped, "mean": mean_fallback, "median": median, "median+": shipped}
+    # median: negative values passed on
+    fallbacks = {"off": shipped, "mean": mean_fallback, "median": fallback_table(lambda rows: np.median(rows, axis=0)),
+                 "median+": shipped}
     hi.register()
     spec = str(ROOT / "scenes" / "many_objects.xml")
     scene, _ = load_bench_scene(spec, {"resx": str(args.resx), "resy": str(args.resy)})
@@ -76,6 +70,12 @@ def main() -> None:
                     for k in range(args.frames):
                         result = integrator.render_result(scene, seed=k, spp=1, layers=False)
                     errors.setdefault((set_name, name), []).append(flip_map(np.array(result.image)[..., :3], truth)[1])
+                    learnt = np.asarray(integrator.state.ambient)
+                    rows = learnt[np.isfinite(learnt).all(axis=1)]
+                    if set_name == next(iter(SETS)) and name == "median+" and len(rows):
+                        print(f"pose {at}, {set_name}: {len(rows)} learnt rows, the largest E {rows.max(axis=0).round(2)}, "
+                              f"the smallest {rows.min(axis=0).round(2)}; their mean {rows.mean(axis=0).round(2)}, "
+                              f"median {np.median(rows, axis=0).round(2)}", flush=True)
             pipeline.ambient_table = shipped
             print(f"pose {at}: " + ", ".join(f"{s} / {n} {v[-1]:.3f}" for (s, n), v in errors.items()), flush=True)
     for (set_name, name), values in errors.items():

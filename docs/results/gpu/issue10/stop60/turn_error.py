@@ -42,15 +42,24 @@ SIDES = {"rt": {"primary": "raytrace", "stage_times": False},
          "median": {"budget": True, "stage_times": False}}
 
 
-def mean_fallback(learnt: np.ndarray, n_objects: int) -> np.ndarray:
-    """``lighting.ambient_table`` before this stop: an object never traced took the mean of the
-    learnt rows."""
-    table = np.zeros((max(n_objects, 1), 3), dtype=np.float32)
-    known = np.isfinite(learnt[:n_objects]).all(axis=1) if len(learnt) else np.zeros(0, dtype=bool)
-    if known.any():
-        table[:] = learnt[:n_objects][known].mean(axis=0)
-        table[:len(known)][known] = learnt[:n_objects][known]
+def fallback_table(statistic):
+    """``lighting.ambient_table`` with another fallback for the objects never traced: the rows it
+    gives them replaced by ``statistic`` of the learnt rows (``mean_fallback``: before this stop,
+    their mean)."""
+    from hybrid_integrator.lighting import ambient_table
+
+    def table(learnt: np.ndarray, n_objects: int) -> np.ndarray:
+        out = ambient_table(learnt, n_objects)
+        known = np.isfinite(learnt[:n_objects]).all(axis=1) if len(learnt) else np.zeros(0, dtype=bool)
+        if known.any():
+            unknown = np.ones(len(out), dtype=bool)
+            unknown[:len(known)] = ~known
+            out[unknown] = statistic(learnt[:n_objects][known])
+        return out
     return table
+
+
+mean_fallback = fallback_table(lambda rows: rows.mean(axis=0))
 
 
 def main() -> None:
