@@ -179,13 +179,14 @@ def ambient_table(learnt: np.ndarray, n_objects: int) -> np.ndarray:
     is learnt yet).
 
     An object's own ``E`` is its residual per albedo, so it may be huge where its albedo is small
-    (a glossy sphere's: 12-244 on the 226 objects' path) and negative where its pixels lie in
+    (a glossy sphere's: up to 512 on the 226 objects' path) and negative where its pixels lie in
     shadows the raster layer does not have (the floor's). Neither says anything about another
     object: the mean of the learnt rows, taken before for the objects never traced, made those
     many times too bright, or darkened lit objects with the floor's shadows. On the CPU
     (``llvm_ad_rgb``, 320×180, eight poses of that path, ten objects traced, the rest not) the
     frames' FLIP against ``path`` was 0.343 with the mean, 0.283 with the median, 0.256 without
-    the learnt term, and 0.252 with the median clamped at zero (docs/results, issue 10, stop 60)."""
+    the learnt term, and 0.252 with the median clamped at zero
+    (``docs/results/gpu/issue10/stop60/ambient_fallback.py``)."""
     table = np.zeros((max(n_objects, 1), 3), dtype=np.float32)
     known = np.isfinite(learnt[:n_objects]).all(axis=1) if len(learnt) else np.zeros(0, dtype=bool)
     if known.any():

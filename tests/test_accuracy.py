@@ -272,7 +272,7 @@ def test_learnt_ambient_never_darkens_or_floods_the_objects_never_traced():
     """On the 226 objects' camera path, ten objects traced (the floor, boxes, glossy spheres) and
     the rest never: with the learnt term each frame is no further from the truth than without it,
     and closer at one pose. (With the mean of the learnt rows for the objects never traced, as
-    before, the glossy spheres' E of 12-244 flooded them at one pose, FLIP 0.204 -> 0.269, and
+    before, the glossy spheres' E of up to 512 flooded them at one pose, FLIP 0.204 -> 0.269, and
     the floor's shadows darkened them at the other, 0.306 -> 0.507.)"""
     from hybrid_integrator.bench import path_cameras
     from hybrid_integrator.raster.camera import camera_pose
