@@ -4,10 +4,12 @@ and image error against Mitsuba's ``path`` (issue 10, stop 60).
 Per scene and budget (fractions ``--budgets`` of the all-candidates trace time), the sides render in
 turn by rounds of ``--block`` frames (``bench.frames_in_turn``, the first frame of each round not
 measured), each carrying its own state. A side is ``--side NAME=JSON``: the integrator's
-properties, where ``"budget": true`` stands for the budget's ``budget_ms``, and ``"ambient":
+properties, where ``"budget": true`` stands for the budget's ``budget_ms``, ``"ambient":
 "mean"`` renders that side's frames with the learnt ambient table as it was before this stop (an
 object never traced took the mean of the learnt terms; now their median, never below zero:
-``lighting.ambient_table``). Prints each side's median frame, the paired ratios of the first side
+``lighting.ambient_table``), and ``"albedo": "mitsuba"`` with the G-buffer's albedo as before stop
+61 (Mitsuba's ``eval_diffuse_reflectance`` as it is, up to 5.9 on a rough conductor:
+``raster.gbuffer.aov_values``; the side's device pass recorded apart). Prints each side's median frame, the paired ratios of the first side
 to each other and of the second to the third (also by the host's speed before each frame:
 ``bench.paired_ratio_by_host``), each budgeted side's relevance captured and pixels traced (means
 over the measured frames) and its timed frames within budget + 10 %, and the image error of the
@@ -77,23 +79,36 @@ def main() -> None:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator import pipeline
-    from hybrid_integrator.api import posed
+    import drjit as dr
+    from hybrid_integrator.api import posed, renderer
     from hybrid_integrator.compare import render_path
     from hybrid_integrator.metrics import ImageError, errors_in_parallel, relative_mse
     from hybrid_integrator.raster.camera import camera_pose
 
     hi.register()
-    shipped = pipeline.ambient_table
+    shipped, shipped_values = pipeline.ambient_table, pipeline.aov_values
+
+    def mitsuba_albedo(scene, hits, aovs, constants):
+        out = shipped_values(scene, hits, aovs, constants)
+        if "albedo" in out:
+            value = hits.si.bsdf(hits.ray).eval_diffuse_reflectance(hits.si, hits.valid)
+            out["albedo"] = [dr.select(hits.valid, value[k], 0.0) for k in range(3)]
+        return out
     names = list(specs)
     tests, keys = [], []  # images measured, and (scene, budget, side, pose) for each
     truths: dict[tuple, np.ndarray | None] = {}
     for ready, fraction, budget in turn_budgets(args, WARM):
-        sides = {name: {k: v for k, v in spec.items() if k not in ("budget", "ambient")}
+        sides = {name: {k: v for k, v in spec.items() if k not in ("budget", "ambient", "albedo")}
                  | ({"budget_ms": budget} if spec.get("budget") else {}) for name, spec in specs.items()}
         stats: dict[str, list] = {s: [] for s in sides}
 
+        made, recorded = renderer(ready.scene), {}
+
         def before(name):
             pipeline.ambient_table = mean_fallback if specs[name].get("ambient") == "mean" else shipped
+            raw = specs[name].get("albedo") == "mitsuba"
+            pipeline.aov_values = mitsuba_albedo if raw else shipped_values
+            made._setups, made._frozen = recorded.setdefault(raw, ({}, {}))
 
         def after(name, at, result):
             stats[name].append(result.stats)
@@ -105,7 +120,8 @@ def main() -> None:
 
         times = frames_in_turn(ready.scene, sides, args.frames, 1, 0, warmup=WARM, block=args.block,
                                cameras=ready.cameras, before=before, after=after, host_speed=True)
-        pipeline.ambient_table = shipped
+        pipeline.ambient_table, pipeline.aov_values = shipped, shipped_values
+        made._setups, made._frozen = recorded.get(False, ({}, {}))
         print(f"{ready.name:16s} {fraction:.0%} budget ({budget:.3f} ms): frame ms "
               + ", ".join(f"{s} {statistics.median(t['total'] for t in times[s]):.3f}" for s in sides), flush=True)
         for a, b in [(names[0], n) for n in names[1:]] + ([(names[1], names[2])] if len(names) > 2 else []):
