@@ -64,6 +64,30 @@ def fallback_table(statistic):
 mean_fallback = fallback_table(lambda rows: rows.mean(axis=0))
 
 
+def mitsuba_albedo(scene, hits, aovs, constants):
+    """``raster.gbuffer.aov_values`` with the albedo as before stop 61: Mitsuba's
+    ``eval_diffuse_reflectance`` as it is, where the BSDF has no diffuse lobe too."""
+    import drjit as dr
+    from hybrid_integrator.raster.gbuffer import aov_values
+
+    out = aov_values(scene, hits, aovs, constants)
+    if "albedo" in out:
+        value = hits.si.bsdf(hits.ray).eval_diffuse_reflectance(hits.si, hits.valid)
+        out["albedo"] = [dr.select(hits.valid, value[k], 0.0) for k in range(3)]
+    return out
+
+
+def albedo_as(made, recorded: dict, raw: bool) -> None:
+    """The renderer ``made`` renders its next frames with the albedo as before stop 61 (``raw``) or
+    as now; each kind keeps its own fixed parts and recordings (``recorded``), which are made for
+    a setting, not for this stand-in."""
+    from hybrid_integrator import pipeline
+    from hybrid_integrator.raster.gbuffer import aov_values
+
+    pipeline.aov_values = mitsuba_albedo if raw else aov_values
+    made._setups, made._frozen = recorded.setdefault(raw, ({}, {}))
+
+
 def main() -> None:
     from hybrid_integrator.bench import frames_in_turn, paired_ratio, paired_ratio_by_host, turn_arguments, turn_budgets
 
@@ -79,21 +103,13 @@ def main() -> None:
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
     from hybrid_integrator import pipeline
-    import drjit as dr
     from hybrid_integrator.api import posed, renderer
     from hybrid_integrator.compare import render_path
     from hybrid_integrator.metrics import ImageError, errors_in_parallel, relative_mse
     from hybrid_integrator.raster.camera import camera_pose
 
     hi.register()
-    shipped, shipped_values = pipeline.ambient_table, pipeline.aov_values
-
-    def mitsuba_albedo(scene, hits, aovs, constants):
-        out = shipped_values(scene, hits, aovs, constants)
-        if "albedo" in out:
-            value = hits.si.bsdf(hits.ray).eval_diffuse_reflectance(hits.si, hits.valid)
-            out["albedo"] = [dr.select(hits.valid, value[k], 0.0) for k in range(3)]
-        return out
+    shipped = pipeline.ambient_table
     names = list(specs)
     tests, keys = [], []  # images measured, and (scene, budget, side, pose) for each
     truths: dict[tuple, np.ndarray | None] = {}
@@ -106,9 +122,7 @@ def main() -> None:
 
         def before(name):
             pipeline.ambient_table = mean_fallback if specs[name].get("ambient") == "mean" else shipped
-            raw = specs[name].get("albedo") == "mitsuba"
-            pipeline.aov_values = mitsuba_albedo if raw else shipped_values
-            made._setups, made._frozen = recorded.setdefault(raw, ({}, {}))
+            albedo_as(made, recorded, specs[name].get("albedo") == "mitsuba")
 
         def after(name, at, result):
             stats[name].append(result.stats)
@@ -120,8 +134,8 @@ def main() -> None:
 
         times = frames_in_turn(ready.scene, sides, args.frames, 1, 0, warmup=WARM, block=args.block,
                                cameras=ready.cameras, before=before, after=after, host_speed=True)
-        pipeline.ambient_table, pipeline.aov_values = shipped, shipped_values
-        made._setups, made._frozen = recorded.get(False, ({}, {}))
+        pipeline.ambient_table = shipped
+        albedo_as(made, recorded, False)
         print(f"{ready.name:16s} {fraction:.0%} budget ({budget:.3f} ms): frame ms "
               + ", ".join(f"{s} {statistics.median(t['total'] for t in times[s]):.3f}" for s in sides), flush=True)
         for a, b in [(names[0], n) for n in names[1:]] + ([(names[1], names[2])] if len(names) > 2 else []):
