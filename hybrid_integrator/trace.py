@@ -51,7 +51,15 @@ class RouletteCap(NamedTuple):
     1 / probability); only the paths that deep gain variance. H200, 1280×720, the default frame
     against the cap 0.95 everywhere, in turn: the showcase 1.11× faster (FLIP 0.0970 → 0.0971),
     the Armadillo 1.04× (0.0310 → 0.0314, rel. MSE 0.0042 both), the 226 objects 1.03×, Sponza
-    1.00× (docs/results/gpu/issue10/stop57: ``rr_cap.py``)."""
+    1.00× (docs/results/gpu/issue10/stop57: ``rr_cap.py``).
+
+    The price is rare fireflies: the weight doubles at each vertex past ``tail_depth``, so the few
+    paths that survive long through glass carry 2^k their light. The denoiser removes them, but an
+    undenoised frame keeps them. On the CPU (the showcase, 320×180, 24 seeds) the undenoised
+    frame's relative MSE against ``path`` had a median of 0.456 without the cap and 0.471 with it,
+    but a mean of 0.511 against 9.85, from one frame at 224. Denoised: 0.012 either way
+    (docs/results/gpu/issue10/stop61: ``tail_variance.py``). An average of undenoised frames
+    converges more slowly with the cap; ``rr_tail_depth=-1`` turns it off."""
 
     tail_depth: int = 16
     tail_prob: float = 0.5

@@ -171,7 +171,9 @@ Properties
                  path keeps going with probability 0.95, so a GPU launch ended in a tail of a few
                  lanes hundreds of vertices deep; the cap ends it, unbiased, with more variance
                  only in paths that deep (``trace.RouletteCap``: H200, the showcase 1.11× faster,
-                 FLIP 0.0970 → 0.0971; the Armadillo 1.04×, 0.0310 → 0.0314).
+                 FLIP 0.0970 → 0.0971; the Armadillo 1.04×, 0.0310 → 0.0314). That variance is rare
+                 fireflies, which the denoiser removes. Without the denoiser, or to average frames
+                 into a reference, set -1.
 
 Each property has the type its XML tag above says (from Python: ``bool``, ``int``, a number, ``str``;
 a float takes an integer): another is an error naming the property, as ``denoise='no' must be a
