@@ -113,8 +113,7 @@ def aov_values(scene: mi.Scene, hits: PrimaryHits, aovs: tuple[str, ...], consta
     if "normal" in aovs:
         out["normal"] = surface(si.sh_frame.n)
     if "albedo" in aovs:
-        # Mitsuba's eval_diffuse_reflectance is π·f(wi, n) for a BSDF that does not define it:
-        # a rough conductor seen head-on gave 5.9 (Cu, α = 0.2), the dining room's (α = 0.05) more
+        # not where the BSDF has no diffuse lobe: there Mitsuba gives π·f(wi, n) (module docstring)
         diffuse = mi.has_flag(bsdf.flags(), mi.BSDFFlags.DiffuseReflection)
         out["albedo"] = surface(dr.select(diffuse, dr.clip(bsdf.eval_diffuse_reflectance(si, valid), 0.0, 1.0), 0.0))
     if "specular" in aovs or "optical" in aovs:
