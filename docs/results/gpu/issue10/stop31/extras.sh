@@ -1,22 +1,35 @@
 #!/usr/bin/env bash
-# Stop 31, a device run's first two calls: what the bundle (.device, ../shared/tools/device-bundle.sh)
-# lacks, carried in the git-excluded .device_x1/ and .device_x2/ (a call carries at most 64 MiB with
-# the working tree) and unpacked into the machine's /tmp, which the next call on the same (warm)
-# machine finds again: Open Image Denoise (pyoidn 2.5.1 with its core, CPU and CUDA libraries only,
-# the tarball split in two parts: the wheel's 171 MB do not fit a carry), cffi, pycparser, tqdm
-# (cp312 wheels), and the bench scenes' files from ../shared/scenes (scn.tar.xz).
-#   call 1: bash extras.sh 1 (carry .device_x1)   call 2: bash extras.sh 2 (carry .device_x2)
-# Since stop 37 the tracked tree is too large to carry scn.tar.xz with oidn.part00: it sits in
-# .device_x3/ (git-excluded), unpacked by a call of its own, bash extras.sh 3 (carry .device_x3).
+# A device run's first calls: what the working tree lacks, carried in the git-excluded .device_xN/
+# (a call carries at most 64 MiB with the working tree) and unpacked into the machine's /tmp, which
+# the next call on the same (warm) machine finds again: Open Image Denoise (pyoidn 2.5.1 with its
+# core, CPU and CUDA libraries only: the wheel's 171 MB do not fit a carry), cffi, pycparser, tqdm,
+# flip-evaluator (cp312 wheels), the bench scenes' files from ../shared/scenes (scn.tar.xz) and,
+# since stop 62, the bundle's site packages (../shared/tools/device-bundle.sh; its prelude, in
+# .device, finds them in /tmp/site).
+#   call N: bash extras.sh N (carry .device_xN), for N = 1 ... 6 in back-to-back calls, any order
+# A large archive is split in parts named ARCHIVE.pK-of-N across the carries (stop45/carries.sh
+# makes them): each call keeps its parts in /tmp/parts and unpacks an archive once all its parts
+# are in. History: stop 31 carried two parts, stop 37 three (the tracked tree had grown); in stop 62
+# the tracked tree reached 41 MB, and a call carrying the 24 MB bundle or half of Open Image
+# Denoise beside it no longer fitted, so no carry holds more than ~17 MB now.
 set -euo pipefail
-mkdir -p /tmp/extra /tmp/scn
-if [ "$1" = 1 ]; then
-  cp .device_x1/oidn.part00 /tmp/oidn.part00
-  if [ -f .device_x1/scn.tar.xz ]; then tar -xJf .device_x1/scn.tar.xz -C /tmp/scn; fi
-elif [ "$1" = 3 ]; then
-  tar -xJf .device_x3/scn.tar.xz -C /tmp/scn
-else
-  cat /tmp/oidn.part00 .device_x2/oidn.part01 | tar -xJ -C /tmp/extra
-  for w in .device_x2/*.whl; do python3 -m zipfile -e "$w" /tmp/extra; done
-  ls /tmp/extra /tmp/scn; nvidia-smi --query-gpu=name,driver_version --format=csv
-fi
+mkdir -p /tmp/parts /tmp/extra /tmp/scn /tmp/site
+cp .device_x$1/* /tmp/parts/
+declare -A into=([oidn.tar.xz]=/tmp/extra [site.tar.xz]=/tmp/site [scn.tar.xz]=/tmp/scn)
+for archive in "${!into[@]}"; do
+  [ -e /tmp/parts/$archive.done ] && continue
+  if [ -f /tmp/parts/$archive ]; then
+    tar -xJf /tmp/parts/$archive -C ${into[$archive]}
+  else
+    parts=(/tmp/parts/$archive.p*-of-*)
+    [ -f "${parts[0]}" ] || continue
+    n=${parts[0]##*-of-}
+    [ ${#parts[@]} -eq $n ] || continue
+    for ((k = 0; k < n; k++)); do cat /tmp/parts/$archive.p$k-of-$n; done | tar -xJ -C ${into[$archive]}
+  fi
+  touch /tmp/parts/$archive.done; echo "unpacked $archive"
+done
+for w in /tmp/parts/*.whl; do
+  [ -f "$w" ] && [ ! -e "$w.done" ] && python3 -m zipfile -e "$w" /tmp/extra && touch "$w.done"
+done
+true
