@@ -2,6 +2,7 @@
 # Stop 61's device runs, from the repository root on a warm machine, after
 # `bash docs/results/gpu/issue10/stop31/extras.sh 3`, `… 1`, `… 2` (scenes, Open Image Denoise,
 # flip-evaluator), with .device carried (made by `bash docs/results/gpu/issue10/stop45/carries.sh`).
+# Since stop 62 the carries are six: `extras.sh N` for N = 1 ... 6, each carrying .device_xN, then this.
 #   bash docs/results/gpu/issue10/stop61/run.sh accuracy SCENE...  # the README table's bench, one process per
 #     scene: hybrid bench --frames 20 --gt-spp 1024 --max-path-spp 16 (stop 49's, on this tree)
 #   bash docs/results/gpu/issue10/stop61/run.sh albedo [SCENE...] [--budgets B...]  # stop60/turn_error.py: the
