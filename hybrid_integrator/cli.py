@@ -50,7 +50,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--rr-depth", dest="rr_depth", type=int, help="as Mitsuba's path: the depth where Russian roulette starts")
     g.add_argument("--rr-tail-depth", dest="rr_tail_depth", type=int,
                    help="from this depth on, Russian roulette continues a path with probability at most "
-                        "--rr-tail-prob (default 16; -1: never, as path)")
+                        "--rr-tail-prob (default: 16 in a denoised frame, -1 without the denoiser; -1: never, as path)")
     g.add_argument("--rr-tail-prob", dest="rr_tail_prob", type=float, help="that probability (default 0.5)")
     g.add_argument("--secondary-spp", dest="secondary_spp", type=int,
                    help="paths traced from each traced pixel's primary hit, in one launch (default: 1)")

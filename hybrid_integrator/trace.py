@@ -39,7 +39,9 @@ from .selection import lobes as followed_lobes
 class RouletteCap(NamedTuple):
     """The largest probability with which Russian roulette continues a path: ``path``'s 0.95, and
     ``tail_prob`` from path depth ``tail_depth`` on (-1: never). The defaults are the integrator's
-    (its ``rr_tail_depth`` and ``rr_tail_prob``).
+    in a denoised frame (its ``rr_tail_depth`` and ``rr_tail_prob``); since stop 62 a frame without
+    the denoiser has no cap unless ``rr_tail_depth`` is given (``HybridSettings.roulette``), for the
+    fireflies below.
 
     Past ``rr_depth`` a path continues with probability min(max throughput · η², cap). Through
     glass the throughput stays near 1, so with ``path``'s cap of 0.95 a path's length past
@@ -59,7 +61,8 @@ class RouletteCap(NamedTuple):
     frame's relative MSE against ``path`` had a median of 0.456 without the cap and 0.471 with it,
     but a mean of 0.511 against 9.85, from one frame at 224. Denoised: 0.012 either way
     (docs/results/gpu/issue10/stop61: ``tail_variance.py``). An average of undenoised frames
-    converges more slowly with the cap; ``rr_tail_depth=-1`` turns it off."""
+    converges more slowly with the cap; ``rr_tail_depth=-1`` turns it off, and a frame without
+    the denoiser goes without it by default."""
 
     tail_depth: int = 16
     tail_prob: float = 0.5

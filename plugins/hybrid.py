@@ -12,7 +12,7 @@
         <float name="blend" value="1"/>                <!-- composition weight of the RT layer -->
         <integer name="max_depth" value="-1"/>         <!-- as Mitsuba's path; -1 = unlimited -->
         <integer name="rr_depth" value="5"/>
-        <integer name="rr_tail_depth" value="16"/>     <!-- -1: path's roulette at every depth -->
+        <integer name="rr_tail_depth" value="16"/>     <!-- default: 16 denoised, -1 (path's roulette) not -->
         <float name="rr_tail_prob" value="0.5"/>       <!-- roulette's cap from rr_tail_depth on -->
         <boolean name="hide_emitters" value="false"/>
         <float name="budget_ms" value="0"/>            <!-- ray-tracing time per frame; 0 = unlimited -->
@@ -167,13 +167,14 @@ Properties
 ``max_depth``, ``rr_depth``, ``hide_emitters``: as Mitsuba's ``path``.
 ``rr_tail_depth``, ``rr_tail_prob``  past ``rr_depth`` a path goes on with probability
                  min(max throughput · η², 0.95), as in ``path``; from depth ``rr_tail_depth`` on
-                 (default 16; -1: never) at most ``rr_tail_prob`` (default 0.5). Through glass a
+                 (default: 16 in a denoised frame, -1 in one without the denoiser; -1: never)
+                 at most ``rr_tail_prob`` (default 0.5). Through glass a
                  path keeps going with probability 0.95, so a GPU launch ended in a tail of a few
                  lanes hundreds of vertices deep; the cap ends it, unbiased, with more variance
                  only in paths that deep (``trace.RouletteCap``: H200, the showcase 1.11× faster,
                  FLIP 0.0970 → 0.0971; the Armadillo 1.04×, 0.0310 → 0.0314). That variance is rare
-                 fireflies, which the denoiser removes. Without the denoiser, or to average frames
-                 into a reference, set -1.
+                 fireflies, which the denoiser removes; so without the denoiser (``denoise``
+                 false) the default is -1. To average frames into a reference, set -1.
 
 Each property has the type its XML tag above says (from Python: ``bool``, ``int``, a number, ``str``;
 a float takes an integer): another is an error naming the property, as ``denoise='no' must be a

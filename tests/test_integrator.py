@@ -15,6 +15,7 @@ from hybrid_integrator.cli import main as cli
 from hybrid_integrator.errors import HybridError
 from hybrid_integrator.io import read_exr
 from hybrid_integrator.pipeline import HybridSettings, resolve_refine
+from hybrid_integrator.trace import RouletteCap
 from conftest import DEFAULT_SCENE, SHARED_SCENES, load
 
 SMALL = dict(resx=320, resy=180)
@@ -231,10 +232,28 @@ def test_the_roulette_tail_cap_shortens_glass_paths_without_bias():
     assert capped.stats.secondary_rays < 0.97 * uncapped.stats.secondary_rays, \
         (capped.stats.secondary_rays, uncapped.stats.secondary_rays)
     assert abs(np.array(capped.image).mean() / np.array(uncapped.image).mean() - 1) < 0.02
-    shallow = dict(common, spp=4, max_depth=8)  # no vertex reaches depth 16, the default tail: the same paths
+    shallow = dict(common, spp=4, max_depth=8)  # no vertex reaches depth 16, the cap's own tail: the same paths
     # (to the last bits the film's parallel splatting leaves to chance: ~3e-8 between two equal renders)
-    assert np.allclose(np.array(hi.render(scene, **shallow).image),
+    assert np.allclose(np.array(hi.render(scene, rr_tail_depth=16, **shallow).image),
                        np.array(hi.render(scene, rr_tail_depth=-1, **shallow).image), rtol=1e-5, atol=1e-6)
+
+
+def test_a_frame_without_the_denoiser_has_no_roulette_cap_by_default():
+    """The cap's price is rare fireflies, which only the denoiser removes (trace.RouletteCap): by
+    default a denoised frame has the cap and one without the denoiser ``path``'s roulette; a
+    given ``rr_tail_depth`` holds either way."""
+    assert HybridSettings().roulette == RouletteCap(16, 0.5)
+    assert HybridSettings(denoise=False).roulette == RouletteCap(-1, 0.5)
+    assert HybridSettings(denoise=False, rr_tail_depth=16).roulette == RouletteCap(16, 0.5)
+    assert HybridSettings(rr_tail_depth=-1).roulette == RouletteCap(-1, 0.5)
+    assert mi.load_dict({"type": "hybrid", "denoise": False, "rr_tail_depth": 0}).settings.roulette.tail_depth == 0
+    path, params = CONVERGENCE["showcase"]
+    scene = load(path, **params)
+    common = dict(spp=2, seed=5, max_depth=-1, denoise=False)
+    default, uncapped = hi.render(scene, **common), hi.render(scene, rr_tail_depth=-1, **common)
+    capped = hi.render(scene, rr_tail_depth=0, rr_tail_prob=0.3, **common)
+    assert default.stats.secondary_rays == uncapped.stats.secondary_rays != capped.stats.secondary_rays
+    assert np.allclose(np.array(default.image), np.array(uncapped.image), rtol=1e-5, atol=1e-6)
 
 
 def test_no_candidates_or_zero_blend_show_the_raster_layer():
