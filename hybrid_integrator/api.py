@@ -72,7 +72,8 @@ def _integrator(properties: dict):
     # the settings checked here first: raised inside Mitsuba's plugin loader, the clear HybridError
     # would reach the user wrapped in a RuntimeError with Mitsuba's traceback text
     HybridSettings.from_properties(properties)
-    integrator = mi.load_dict({"type": "hybrid", **properties})
+    # an optional property given as None is unset: its default (Mitsuba's loader cannot take None)
+    integrator = mi.load_dict({"type": "hybrid", **{k: v for k, v in properties.items() if v is not None}})
     assert isinstance(integrator, HybridIntegrator)
     return integrator
 

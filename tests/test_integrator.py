@@ -250,7 +250,8 @@ def test_a_frame_without_the_denoiser_has_no_roulette_cap_by_default():
     path, params = CONVERGENCE["showcase"]
     scene = load(path, **params)
     common = dict(spp=2, seed=5, max_depth=-1, denoise=False)
-    default, uncapped = hi.render(scene, **common), hi.render(scene, rr_tail_depth=-1, **common)
+    # None, from Python, is the default (Mitsuba's loader itself cannot take None)
+    default, uncapped = hi.render(scene, rr_tail_depth=None, **common), hi.render(scene, rr_tail_depth=-1, **common)
     capped = hi.render(scene, rr_tail_depth=0, rr_tail_prob=0.3, **common)
     assert default.stats.secondary_rays == uncapped.stats.secondary_rays != capped.stats.secondary_rays
     assert np.allclose(np.array(default.image), np.array(uncapped.image), rtol=1e-5, atol=1e-6)

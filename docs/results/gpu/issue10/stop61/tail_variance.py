@@ -39,11 +39,12 @@ def main() -> None:
         truth = np.array(render_path(scene, args.gt_spp, -1, seed=99))[..., :3]
         print(f"{name} ({args.seeds} seeds, against path at {args.gt_spp} spp):", flush=True)
         summary("path 1 spp", [np.array(render_path(scene, 1, -1, seed=s))[..., :3] for s in range(args.seeds)], truth)
-        for tail in (-1, 16):
+        for tail in (-1, 16, None):  # None: the integrator's default (since stop 62: 16 denoised, -1 not)
             for denoise in (False, True):
                 images = [np.array(hi.render(scene, spp=1, seed=s, denoise=denoise, layers=False,
                                              rr_tail_depth=tail).image)[..., :3] for s in range(args.seeds)]
-                summary(f"rr_tail_depth {tail:3d}, {'denoised' if denoise else 'no denoiser'}", images, truth)
+                summary(f"rr_tail_depth {'default' if tail is None else tail:>7}, {'denoised' if denoise else 'no denoiser'}",
+                        images, truth)
 
 
 if __name__ == "__main__":
