@@ -31,6 +31,19 @@ def _define(text: str) -> tuple[str, str]:
     return name, value
 
 
+def typed_value(value: str) -> object:
+    """A ``NAME=VALUE`` property's text as a Mitsuba property's value: a boolean, an integer, a
+    float or the text itself (the probes' ``--property``)."""
+    if value.lower() in ("true", "false"):
+        return value.lower() == "true"
+    for kind in (int, float):
+        try:
+            return kind(value)
+        except ValueError:
+            pass
+    return value
+
+
 def _integrator_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("hybrid integrator properties (default: the integrator's own)")
     g.add_argument("--primary", choices=("raster", "raytrace"), help="where primary hits come from")

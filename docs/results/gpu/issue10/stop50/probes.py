@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[5]))
-from hybrid_integrator.cli import _define  # NAME=VALUE, or argparse's error  # noqa: E402
+from hybrid_integrator.cli import _define, typed_value  # NAME=VALUE, or argparse's error  # noqa: E402
 
 
 def rivals(scene, rounds: int, properties: dict | None = None) -> dict[str, list[float]]:
@@ -85,18 +85,6 @@ def inflight(scene, frames: int) -> dict[str, dict[str, list[float]]]:
     return out
 
 
-def _typed(value: str) -> object:
-    """A ``--property`` value as a Mitsuba property's: a boolean, an integer, a float or the text itself."""
-    if value.lower() in ("true", "false"):
-        return value.lower() == "true"
-    for kind in (int, float):
-        try:
-            return kind(value)
-        except ValueError:
-            pass
-    return value
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("probe", choices=("rivals", "inflight"))
@@ -116,7 +104,7 @@ def main() -> None:
     from hybrid_integrator.bench import load_bench_scene
 
     defines = dict(d.split("=", 1) for d in args.defines)
-    properties = {name: _typed(value) for name, value in args.properties}
+    properties = {name: typed_value(value) for name, value in args.properties}
     if args.probe == "rivals":
         print(f"{args.variant}: median wall ms per frame, {args.rounds} rounds in turn; rival / hybrid "
               f"(stage_times=false, {properties or 'the default properties'}): median [quartiles] of the rounds' ratios")
