@@ -31,17 +31,18 @@ def _define(text: str) -> tuple[str, str]:
     return name, value
 
 
-def typed_value(value: str) -> object:
-    """A ``NAME=VALUE`` property's text as a Mitsuba property's value: a boolean, an integer, a
-    float or the text itself (the probes' ``--property``)."""
+def typed_property(text: str) -> tuple[str, object]:
+    """``NAME=VALUE`` as an integrator property (the probes' ``--property``): the value a boolean,
+    an integer, a float or the text itself, as Mitsuba's typed properties take it."""
+    name, value = _define(text)
     if value.lower() in ("true", "false"):
-        return value.lower() == "true"
+        return name, value.lower() == "true"
     for kind in (int, float):
         try:
-            return kind(value)
+            return name, kind(value)
         except ValueError:
             pass
-    return value
+    return name, value
 
 
 def _integrator_options(p: argparse.ArgumentParser) -> None:

@@ -183,14 +183,9 @@ class HybridSettings:
 
     @property
     def roulette(self) -> RouletteCap:
-        """Russian roulette's cap on going on (``rr_tail_depth``, ``rr_tail_prob``). By default
-        only a denoised frame has it: the cap's price is rare fireflies (a path's weight doubles
-        at each vertex past the tail depth), which the denoiser removes and an undenoised frame
-        keeps. CPU, 24 seeds, undenoised relative MSE without / with the cap: the Armadillo's mean
-        0.137 / 0.197 (max 0.263 / 0.726), the showcase's 0.509 / 0.539 in one run and 0.511 / 9.85
-        in another (one frame at 224); denoised, the same either way (0.010, 0.012;
-        docs/results/gpu/issue10/stop61 and stop62, ``tail_variance.py``). So a frame without the
-        denoiser traces ``path``'s roulette unless ``rr_tail_depth`` is given."""
+        """Russian roulette's cap on going on (``rr_tail_depth``, ``rr_tail_prob``). Unless
+        ``rr_tail_depth`` is given, only a denoised frame has it: its price is fireflies that only
+        the denoiser removes (:class:`trace.RouletteCap`)."""
         depth = self.rr_tail_depth
         if depth is None:
             depth = RouletteCap._field_defaults["tail_depth"] if self.denoise else -1

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[5]))
-from hybrid_integrator.cli import _define, typed_value  # NAME=VALUE, or argparse's error  # noqa: E402
+from hybrid_integrator.cli import typed_property  # NAME=VALUE, or argparse's error  # noqa: E402
 
 
 def rivals(scene, rounds: int, properties: dict | None = None) -> dict[str, list[float]]:
@@ -93,7 +93,7 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=30, help="rivals: measured rounds, after three of warm-up")
     parser.add_argument("--frames", type=int, default=40, help="inflight: measured frames per side")
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
-    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE", type=_define,
+    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE", type=typed_property,
                         help="rivals: a property of the hybrid's frames (true / false, a number or text), e.g. "
                              "effects=shadow,reflection,refraction or denoise=false")
     args = parser.parse_args()
@@ -104,7 +104,7 @@ def main() -> None:
     from hybrid_integrator.bench import load_bench_scene
 
     defines = dict(d.split("=", 1) for d in args.defines)
-    properties = {name: typed_value(value) for name, value in args.properties}
+    properties = dict(args.properties)
     if args.probe == "rivals":
         print(f"{args.variant}: median wall ms per frame, {args.rounds} rounds in turn; rival / hybrid "
               f"(stage_times=false, {properties or 'the default properties'}): median [quartiles] of the rounds' ratios")

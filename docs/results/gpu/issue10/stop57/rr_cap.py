@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[5]))
-from hybrid_integrator.cli import _define, typed_value  # NAME=VALUE, or argparse's error  # noqa: E402
+from hybrid_integrator.cli import typed_property  # NAME=VALUE, or argparse's error  # noqa: E402
 
 
 def side_properties(cap: str) -> dict:
@@ -58,7 +58,7 @@ def main() -> None:
     parser.add_argument("--gt-spp", type=int, default=512)
     parser.add_argument("--images", type=int, default=6)
     parser.add_argument("-o", "--output", type=Path, default=None, help="JSON of every scene's rows")
-    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE", type=_define,
+    parser.add_argument("--property", dest="properties", action="append", default=[], metavar="NAME=VALUE", type=typed_property,
                         help="a property of every side's frames (true / false, a number or text), e.g. denoise=false")
     args = parser.parse_args()
 
@@ -77,7 +77,7 @@ def main() -> None:
     for spec in args.scenes:
         scene, name = load_bench_scene(str(spec), params)
         reference, _, _ = ground_truth(str(spec), scene, params, args.gt_spp, -1)
-        sides = {cap: {**{k: typed_value(v) for k, v in args.properties}, **side_properties(cap)} for cap in args.caps}
+        sides = {cap: {**dict(args.properties), **side_properties(cap)} for cap in args.caps}
         times = frames_in_turn(scene, sides, args.frames, 1, 0, warmup=3,
                                cameras=path_cameras(spec, turn_poses(args.frames, 3)))
         base = args.caps[0]
