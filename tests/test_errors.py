@@ -51,6 +51,38 @@ def test_crop_window():
         hi.rasterize(scene)
 
 
+def _film_scene(width: int, height: int) -> mi.Scene:
+    return mi.load_dict({"type": "scene", "s": {"type": "cube"}, "e": {"type": "constant"}, "sensor": {
+        "type": "perspective", "fov_axis": "smaller", "fov": 40, "to_world": mi.ScalarTransform4f().look_at([0, 0, 5], [0, 0, 0], [0, 1, 0]),
+        "film": {"type": "hdrfilm", "width": width, "height": height}}})
+
+
+def test_film_without_pixels():
+    """Mitsuba loads a film of width 0; the frame's empty arrays made Dr.Jit abort the process
+    (camera rays) or OpenGL refuse its target (the raster)."""
+    scene = _film_scene(0, 4)
+    with pytest.raises(hi.UnsupportedSceneError, match="film size 0×4 has no pixels"):
+        hi.rasterize(scene)
+    for primary in ("raster", "raytrace"):
+        with pytest.raises(hi.UnsupportedSceneError, match="film size 0×4 has no pixels"):
+            hi.render(scene, spp=1, primary=primary)
+
+
+def test_film_larger_than_the_gl_context_draws():
+    """A side past the context's limit (16384 on llvmpipe) names the limit and the way out, camera
+    rays, which render it."""
+    from hybrid_integrator.raster.context import gl_context
+
+    info = gl_context().info
+    limit = min(info["GL_MAX_TEXTURE_SIZE"], info["GL_MAX_RENDERBUFFER_SIZE"], *info["GL_MAX_VIEWPORT_DIMS"])
+    scene = _film_scene(limit + 1, 1)
+    with pytest.raises(hi.UnsupportedSceneError, match=f"film size {limit + 1}×1 is too large to rasterize.*"
+                                                        f"at most {limit} pixels per side.*primary='raytrace'"):
+        hi.render(scene, spp=1)
+    image = np.array(hi.render(scene, spp=1, primary="raytrace", denoise=False, layers=False).image)
+    assert image.shape[:2] == (1, limit + 1) and np.isfinite(image).all() and image.max() > 0
+
+
 def test_missing_scene_file(tmp_path, capsys):
     with pytest.raises(hi.HybridError, match="scene file not found: .*nowhere.xml"):
         load_scene(tmp_path / "nowhere.xml")

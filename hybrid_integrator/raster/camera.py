@@ -119,9 +119,9 @@ class RasterCamera:
     @classmethod
     def from_sensor(cls, sensor: mi.Sensor) -> "RasterCamera":
         """Build the camera of ``sensor``, or raise :class:`UnsupportedSceneError` for a sensor
-        type other than ``perspective`` and ``orthographic`` or a film with a crop window. The
-        last camera of each sensor is kept and reused while its parameters are the same (a frame
-        reads them once)."""
+        type other than ``perspective`` and ``orthographic``, a film without pixels or a film with
+        a crop window. The last camera of each sensor is kept and reused while its parameters are
+        the same (a frame reads them once)."""
         kind = sensor.class_name()
         if kind not in SUPPORTED_SENSORS:
             raise UnsupportedSceneError(
@@ -130,6 +130,9 @@ class RasterCamera:
                 "field needs camera rays: render it with primary='raytrace'")
         film = sensor.film()
         size, crop_size, crop_offset = film.size(), film.crop_size(), film.crop_offset()
+        if min(size) < 1:  # Mitsuba loads it; Dr.Jit aborts the process on the frame's empty arrays
+            raise UnsupportedSceneError(f"film size {size[0]}×{size[1]} has no pixels: give the film a width and "
+                                        "height of at least 1")
         if tuple(crop_size) != tuple(size) or tuple(crop_offset) != (0, 0):
             raise UnsupportedSceneError(
                 f"film crop window (offset {tuple(crop_offset)}, size {tuple(crop_size)} of "

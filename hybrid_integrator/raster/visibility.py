@@ -24,7 +24,7 @@ import mitsuba as mi
 import moderngl
 import numpy as np
 
-from ..errors import HybridError
+from ..errors import HybridError, UnsupportedSceneError
 from ..objects import object_of_triangles, scene_objects
 from .camera import RasterCamera
 from .compute import ComputeVisibility
@@ -122,9 +122,16 @@ class Rasterizer:
         self.cull: str | None = None
 
     def target(self, width: int, height: int) -> moderngl.Framebuffer:
-        """The target of one film size: the triangle numbers (R32UI) on a 32-bit float depth buffer."""
+        """The target of one film size: the triangle numbers (R32UI) on a 32-bit float depth buffer;
+        an :class:`UnsupportedSceneError` where a side exceeds what the OpenGL context can draw."""
         key = (width, height)
         if key not in self._targets:
+            info = self.ctx.info
+            limit = min(info["GL_MAX_TEXTURE_SIZE"], info["GL_MAX_RENDERBUFFER_SIZE"], *info["GL_MAX_VIEWPORT_DIMS"])
+            if max(key) > limit:
+                raise UnsupportedSceneError(
+                    f"film size {width}×{height} is too large to rasterize: this OpenGL context ({info['GL_RENDERER']}) "
+                    f"draws at most {limit} pixels per side; render it with primary='raytrace'")
             fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture(key, 1, dtype="u4")],
                                        depth_attachment=self.ctx.depth_texture(key))
             self._depth.attach_float_depth(fbo, key)
