@@ -82,7 +82,7 @@ import mitsuba as mi
 import numpy as np
 
 from .compare import ground_truth, render_path, timed_path, timed_path_denoised
-from .errors import HybridError
+from .errors import HybridError, require_counts
 from .metrics import errors_in_parallel
 from .pipeline import HybridSettings, resolve_refine
 from .primary import resolve_outline
@@ -153,7 +153,12 @@ def load_bench_scene(spec: str, params: dict) -> tuple[mi.Scene, str]:
     """A scene file, or ``procedural:TRIANGLES``; returns the scene and its short name. Of the
     ``params``, each file gets those it takes."""
     if spec.startswith("procedural:"):
-        triangles = int(float(spec.split(":", 1)[1]))
+        count = spec.split(":", 1)[1]
+        try:
+            triangles = int(float(count))
+        except ValueError:
+            raise HybridError(f"procedural scene: '{count}' is not a number of triangles "
+                              "(procedural:TRIANGLES, e.g. procedural:1e6)") from None
         keys = {k: int(v) for k, v in params.items() if k in ("resx", "resy", "spp", "max_depth")}
         return procedural_scene(triangles, **keys), f"procedural_{triangles}"
     # -D applies to the scenes that take it: Mitsuba refuses parameters a file does not use
@@ -390,8 +395,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     import hybrid_integrator as hi
 
     params = dict(params or {})
-    if frames < 1 or spp < 1 or gt_spp < 1 or max_path_spp < 1:
-        raise HybridError("bench: frames, spp, gt_spp and max_path_spp must be >= 1")
+    require_counts("bench", frames=frames, spp=spp, gt_spp=gt_spp, max_path_spp=max_path_spp)
     scene, name = load_bench_scene(spec, params)
     host_start = host_loops()
     max_depth = int(properties.get("max_depth", -1))

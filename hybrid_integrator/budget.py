@@ -265,6 +265,9 @@ class FramePlan:
     #: a probe of the uncalibrated model (``plan_frame``): its ``rays`` come from the prior's rays
     #: per pixel, no prediction, and it is observed as expecting what it traced
     probe: bool = False
+    #: host ms its making took (eq. 1–3 and the selector), wherever the renderer made it: in the
+    #: frame's selection phase, or ahead, in the frame before (``pipeline.HybridRenderer._plan``)
+    host_ms: float = 0.0
 
     @property
     def traced(self) -> set[int]:

@@ -27,6 +27,7 @@ import mitsuba as mi
 import numpy as np
 
 from .cache import disk_cache
+from .errors import require_counts
 from .metrics import image_error
 from .scene import load_scene
 
@@ -181,6 +182,7 @@ def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, s
     as the hybrid's frame is (:func:`timed_path`)."""
     import hybrid_integrator as hi
 
+    require_counts("compare", spp=spp, gt_spp=gt_spp)
     scene_path = Path(scene_path)
     scene = load_scene(scene_path, **params)
     max_depth = int(properties.get("max_depth", -1))

@@ -20,3 +20,10 @@ class UnsupportedSceneError(HybridError):
 
 class RasterContextError(HybridError):
     """No headless OpenGL context could be created."""
+
+
+def require_counts(command: str, **counts: int) -> None:
+    """A :class:`HybridError` naming each of ``counts`` (frames, samples per pixel) below 1."""
+    low = [f"{name}={value}" for name, value in counts.items() if value < 1]
+    if low:
+        raise HybridError(f"{command}: {', '.join(low)} must be >= 1")

@@ -320,6 +320,10 @@ class FrameStats:
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
     predicted_rays: int = 0  # the secondary rays it expected (``secondary_rays``: traced)
+    #: host ms of making the plan this frame traced by (eq. 1–3 and the selector, ``budget.FramePlan.host_ms``):
+    #: a still camera's frame uses a plan made while the frame before traced, so its ``select`` phase
+    #: does not hold this; 0 without a budget
+    plan_ms: float = 0.0
     #: host time (ms) by phase: frame set-up, selection, the raster pass and its interop copy, the
     #: device pass (a frozen replay: Dr.Jit walks its inputs, the scene's variables among them,
     #: then launches), film development, post-processing, the statistics and what the next frame
@@ -826,9 +830,6 @@ class HybridRenderer:
         self._counts = [HostCopy(), HostCopy()] if mi.variant().startswith("cuda") else []
         #: the sub-pixel offsets of the next seed, made while the GPU traced the last frame
         self._next_offsets: dict[tuple[int, int], list[tuple[float, float]]] = {}
-        #: the host time (ms) of the last budget plan (:meth:`_plan`): whether a trace leaves the
-        #: host the time to plan the next frame ahead (:meth:`_plan_ahead`)
-        self._plan_ms = 0.0
         #: the last frame, while it is in flight (``frames_in_flight=2``: inflight.py), and the
         #: device time spans of frames no longer in flight, for reuse
         self._in_flight: InFlight | None = None
@@ -1089,7 +1090,7 @@ class HybridRenderer:
         c = candidates(cov, frame.active, state.selected if selected is None else selected, settings.importance,
                        state.rays_per_pixel, self._errors(settings, state), frame.tiers, growth)
         plan = plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
-        self._plan_ms = (time.perf_counter() - start) * 1e3
+        plan.host_ms = (time.perf_counter() - start) * 1e3
         return plan
 
     def _plan_ahead(self, settings: HybridSettings, frame: _Frame, state: FrameState, plan: FramePlan | None,
@@ -1121,7 +1122,7 @@ class HybridRenderer:
         # twice the last plan's host time is over before the plan, whose time then delays the
         # frame's end either way, and the next raster pass's issue with it (a trace of the
         # Armadillo's floor alone, 0.55 ms: frames 0.13-0.21 ms longer so, stop 53)
-        if state.cost_model.predict(plan.rays) * frame.stats.spp >= 2.0 * self._plan_ms:
+        if state.cost_model.predict(plan.rays) * frame.stats.spp >= 2.0 * plan.host_ms:
             state.next_plan = ((frame.setup, frame.stats.spp, state.frames + 1),
                                self._plan(settings, frame, state, cov, selected=plan.traced))
 
@@ -1286,6 +1287,7 @@ class HybridRenderer:
             stats.relevance_captured = float(c.relevance[traced].sum() / total) if total > 0 else 1.0
             stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if planned else 0.0
             stats.predicted_rays = int(sum(plan.rays.values()) * len(passes))
+            stats.plan_ms = plan.host_ms
             if planned or len(c):  # the trace's time is known after the synchronization
                 # a frame that traces nothing still runs its trace stage: its time is the fixed
                 # part t0 measured alone (zero rays), which the model could otherwise only

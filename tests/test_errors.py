@@ -83,6 +83,16 @@ def test_film_larger_than_the_gl_context_draws():
     assert image.shape[:2] == (1, limit + 1) and np.isfinite(image).all() and image.max() > 0
 
 
+@pytest.mark.parametrize("counts, message", [(["--spp", "0"], "compare: spp=0 must be >= 1"),
+                                             (["--gt-spp", "-3"], "compare: gt_spp=-3 must be >= 1")])
+def test_compare_sample_counts(tmp_path, capsys, counts, message):
+    """A ground truth of 0 samples was rendered with the sampler's count and reported as "0 spp";
+    a negative one failed inside Mitsuba's render with a traceback."""
+    assert cli(["compare", str(DEFAULT_SCENE), *counts, "-o", str(tmp_path / "c")]) == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "c").exists()
+
+
 def test_missing_scene_file(tmp_path, capsys):
     with pytest.raises(hi.HybridError, match="scene file not found: .*nowhere.xml"):
         load_scene(tmp_path / "nowhere.xml")

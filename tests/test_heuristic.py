@@ -266,13 +266,14 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
     for seed in range(5):  # the first three probe the machine
         integrator.render_result(scene, seed=seed, spp=1, layers=False)
     renderer = hi.api.renderer(scene)
-    callers = []  # which method asked for a plan
+    callers, made = [], []  # which method asked for a plan; the plans made
     renderer._plan = lambda *a, **k: (callers.append(sys._getframe(1).f_code.co_name),
-                                      type(renderer)._plan(renderer, *a, **k))[1]
+                                      made.append(type(renderer)._plan(renderer, *a, **k)), made[-1])[2]
     try:
         frame = integrator.render_result(scene, seed=5, spp=1, layers=False)
         assert callers == ["_plan_ahead"], callers  # its own plan was made ahead; it made the next one
         assert frame.stats.selected and frame.stats.budget_met
+        assert frame.stats.plan_ms > 0  # what its plan took to make, in the frame before
         callers.clear()
         integrator.render_result(scene, seed=6, spp=2, layers=False)  # planned ahead for 1 spp: not used
         assert callers == ["_select", "_plan_ahead"], callers
@@ -285,8 +286,10 @@ def test_calibrated_budget_plans_the_next_frame_ahead():
         assert seventh.stats.times_ms["trace"] > seventh.stats.predicted_trace_ms
         assert model.stale  # observed, not yet refitted: the refit waits for the next plan
         callers.clear()
-        integrator.render_result(scene, seed=8, spp=1, layers=False)
+        first = len(made)
+        eighth = integrator.render_result(scene, seed=8, spp=1, layers=False)
         assert callers[0] == "_select", callers
+        assert eighth.stats.plan_ms == made[first].host_ms > 0  # its own plan's time, made in its selection
         # refitted before that plan: rates again (the fixed part may be fitted as 0 by the
         # non-negative least squares, as it was in 3 of 5 runs of this CPU, alone: no sign of a refit)
         assert sum(model.rates.values()) > 0
