@@ -71,10 +71,9 @@ def test_film_without_pixels():
 def test_film_larger_than_the_gl_context_draws():
     """A side past the context's limit (16384 on llvmpipe) names the limit and the way out, camera
     rays, which render it."""
-    from hybrid_integrator.raster.context import gl_context
+    from hybrid_integrator.raster.context import gl_context, max_target_side
 
-    info = gl_context().info
-    limit = min(info["GL_MAX_TEXTURE_SIZE"], info["GL_MAX_RENDERBUFFER_SIZE"], *info["GL_MAX_VIEWPORT_DIMS"])
+    limit = max_target_side(gl_context())
     scene = _film_scene(limit + 1, 1)
     with pytest.raises(hi.UnsupportedSceneError, match=f"film size {limit + 1}×1 is too large to rasterize.*"
                                                         f"at most {limit} pixels per side.*primary='raytrace'"):

@@ -85,6 +85,13 @@ def gl_context() -> moderngl.Context:
     return ctx
 
 
+def max_target_side(ctx: moderngl.Context) -> int:
+    """The most pixels per side of a render target this context draws: its textures',
+    renderbuffers' and viewports' limits (16384 on Mesa's llvmpipe)."""
+    info = ctx.info
+    return min(info["GL_MAX_TEXTURE_SIZE"], info["GL_MAX_RENDERBUFFER_SIZE"], *info["GL_MAX_VIEWPORT_DIMS"])
+
+
 def shader_source(name: str) -> str:
     """The GLSL source of ``raster/shaders/NAME``."""
     return importlib.resources.files(__package__).joinpath("shaders", name).read_text()

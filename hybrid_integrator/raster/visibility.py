@@ -28,7 +28,7 @@ from ..errors import HybridError, UnsupportedSceneError
 from ..objects import object_of_triangles, scene_objects
 from .camera import RasterCamera
 from .compute import ComputeVisibility
-from .context import depth_precision, gl_context, shader_source
+from .context import depth_precision, gl_context, max_target_side, shader_source
 from .geometry import SceneGeometry, scene_geometry
 from .interop import Readback
 
@@ -126,11 +126,10 @@ class Rasterizer:
         an :class:`UnsupportedSceneError` where a side exceeds what the OpenGL context can draw."""
         key = (width, height)
         if key not in self._targets:
-            info = self.ctx.info
-            limit = min(info["GL_MAX_TEXTURE_SIZE"], info["GL_MAX_RENDERBUFFER_SIZE"], *info["GL_MAX_VIEWPORT_DIMS"])
+            limit = max_target_side(self.ctx)
             if max(key) > limit:
                 raise UnsupportedSceneError(
-                    f"film size {width}×{height} is too large to rasterize: this OpenGL context ({info['GL_RENDERER']}) "
+                    f"film size {width}×{height} is too large to rasterize: this OpenGL context ({self.ctx.info['GL_RENDERER']}) "
                     f"draws at most {limit} pixels per side; render it with primary='raytrace'")
             fbo = self.ctx.framebuffer(color_attachments=[self.ctx.texture(key, 1, dtype="u4")],
                                        depth_attachment=self.ctx.depth_texture(key))
