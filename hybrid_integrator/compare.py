@@ -27,7 +27,7 @@ import mitsuba as mi
 import numpy as np
 
 from .cache import disk_cache
-from .errors import require_counts
+from .errors import require_counts, require_srgb
 from .metrics import image_error
 from .scene import load_scene
 
@@ -186,13 +186,13 @@ def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, s
     scene_path = Path(scene_path)
     scene = load_scene(scene_path, **params)
     max_depth = int(properties.get("max_depth", -1))
-    reference, gt_file, cached = ground_truth(scene_path, scene, params, gt_spp, max_depth)
-
     runs = {
         "raster": lambda: hi.render(scene, spp=spp, seed=seed, **{**properties, "candidates": ""}),
         "hybrid": lambda: hi.render(scene, spp=spp, seed=seed, **properties),
         "rt-baseline": lambda: hi.render(scene, spp=spp, seed=seed, **{**properties, "primary": "raytrace"}),
     }
+    require_srgb("compare", runs["raster"]().pixel_format)  # before the ground truth's render
+    reference, gt_file, cached = ground_truth(scene_path, scene, params, gt_spp, max_depth)
     rows, images, maps = [], {}, {}
     for name, run in runs.items():
         run()  # warm-up: kernel compilation, geometry upload

@@ -370,11 +370,13 @@ class HybridResult:
     """A rendered frame: ``image`` as ``mi.render`` returns it, ``composed``: the same before
     temporal accumulation and denoising (the film of the composed layers), the layers (H×W
     numpy, filtered like the image: ``raster``, ``rt``, ``traced`` and any G-buffer AOV asked
-    for; read from the device on first access) and the frame's statistics."""
+    for; read from the device on first access), the frame's statistics, and the film's pixel
+    format, which ``image`` and ``composed`` have (``Development``)."""
 
     def __init__(self, image: mi.TensorXf, stats: FrameStats, layers: mi.TensorXf | None = None,
-                 aovs: dict[str, np.ndarray] | None = None, composed: mi.TensorXf | None = None):
-        self.image, self.stats = image, stats
+                 aovs: dict[str, np.ndarray] | None = None, composed: mi.TensorXf | None = None,
+                 pixel_format: mi.Bitmap.PixelFormat = mi.Bitmap.PixelFormat.RGB):
+        self.image, self.stats, self.pixel_format = image, stats, pixel_format
         self.composed = image if composed is None else composed
         self._layer_sums, self._aovs, self._layers = layers, aovs or {}, None
 
@@ -770,6 +772,7 @@ class _Frame:
     candidate_config: np.ndarray  # per object: effect set index, −1 not a candidate
     candidates: mi.Int32  # the same on the device (every candidate traced)
     stats: FrameStats
+    development: Development  # how its splats become the image (``_post`` works on its film's sRGB)
     ambient: mi.Float | None = None  # the learnt ambient table this frame shades with
     indirect: mi.Float | None = None  # the learnt indirect table of its shadow tiers
     tiers: np.ndarray | None = None  # per object: it has a shadow tier (heuristic.candidates)
@@ -791,13 +794,63 @@ def _normalized(block: mi.TensorXf, first: int) -> mi.TensorXf:
     return block[..., first:first + 3] / dr.maximum(block[..., weight:weight + 1], 1e-12)
 
 
-def develop(sensor: mi.Sensor, block: mi.TensorXf) -> mi.TensorXf:
-    """The passes' splats into the sensor's film, developed as ``mi.render`` returns it (a few
-    small kernels that Mitsuba's C++ film traces quickly: not worth a frozen function)."""
-    film = sensor.film()
-    film.prepare([])
-    film.put_block(mi.ImageBlock(block, film.crop_offset(), film.rfilter()))
-    return film.develop()
+#: the film pixel formats hdrfilm develops from the linear sRGB the frame is made in, and the
+#: variant's function that converts the colour so (alpha is kept)
+FROM_SRGB = {mi.Bitmap.PixelFormat.XYZ: "srgb_to_xyz", mi.Bitmap.PixelFormat.XYZA: "srgb_to_xyz",
+             mi.Bitmap.PixelFormat.Y: "luminance", mi.Bitmap.PixelFormat.YA: "luminance"}
+SRGB = (mi.Bitmap.PixelFormat.RGB, mi.Bitmap.PixelFormat.RGBA)
+
+
+class Development:
+    """How the passes' splats become the image ``mi.render`` returns: developed in the sensor's film
+    (a few small kernels that Mitsuba's C++ film traces quickly: not worth a frozen function).
+
+    The frame is composed in linear sRGB, as Mitsuba's RGB variants render, and the film converts
+    it to its pixel format (hdrfilm's ``xyz`` and ``luminance``, with or without alpha). The
+    denoiser and the temporal history work on that colour, so a post-processed frame (``_post``)
+    is developed in an sRGB film of the same size and filter, and converted to the sensor film's
+    format after (:meth:`finish`), as that film converts (``mi.srgb_to_xyz``, ``mi.luminance``:
+    the same values to float precision, tests/test_integrator.py). The film's format is read
+    from its first development: a film prepared before the frame's first device pass made that
+    pass record once more (tests/test_freeze.py)."""
+
+    def __init__(self, film: mi.Film, post: bool):
+        self.film = film  # the film developed in: the sensor's, or its sRGB twin
+        self.post = post
+        self.convert: Callable | None = None  # sRGB → the sensor film's colour; None: no conversion
+        self.pixel_format: mi.Bitmap.PixelFormat | None = None  # the sensor film's, once developed
+
+    def __call__(self, block: mi.TensorXf) -> mi.TensorXf:
+        """The splats of ``block`` developed in :attr:`film`."""
+        image = self._develop(block)
+        if self.pixel_format is None:
+            self.pixel_format = pixel_format = self.film.bitmap().pixel_format()
+            if self.post and pixel_format not in SRGB:
+                if pixel_format not in FROM_SRGB:
+                    raise UnsupportedSceneError(f"the film's pixel format {pixel_format.name} is not supported with "
+                                                "denoise or temporal: use rgb, rgba, xyz, xyza, luminance or "
+                                                "luminance_alpha")
+                film = self.film
+                self.film = mi.load_dict({"type": "hdrfilm", "width": film.size()[0], "height": film.size()[1],
+                                          "pixel_format": "rgba" if mi.has_flag(film.flags(), mi.FilmFlags.Alpha) else "rgb",
+                                          "rfilter": film.rfilter(), "sample_border": film.sample_border()})
+                self.convert = getattr(mi, FROM_SRGB[pixel_format])
+                image = self._develop(block)
+        return image
+
+    def _develop(self, block: mi.TensorXf) -> mi.TensorXf:
+        self.film.prepare([])
+        self.film.put_block(mi.ImageBlock(block, self.film.crop_offset(), self.film.rfilter()))
+        return self.film.develop()
+
+    def finish(self, image: mi.TensorXf) -> mi.TensorXf:
+        """An image of :attr:`film` in the sensor film's pixel format."""
+        if self.convert is None:
+            return image
+        height, width, channels = image.shape
+        colour = self.convert(mi.Color3f(*(image[..., k].array for k in range(3))))
+        colour = mi.TensorXf(dr.ravel(colour), (height, width, 3 if dr.size_v(colour) == 3 else 1))
+        return colour if channels == 3 else dr.concat([colour, image[..., 3:]], axis=2)
 
 
 class HybridRenderer:
@@ -883,15 +936,17 @@ class HybridRenderer:
                 # the frame before is done before the GPU starts these passes: its times and what it
                 # teaches now, while the GPU traces, before this frame's denoiser records its events again
                 self.finish(clock, keep=after is not None)
-            composed = develop(frame.sensor, sum_tensors([o.image for o in outputs]))
+            composed = frame.development(sum_tensors([o.image for o in outputs]))
             clock.lap("develop")
-            image = self._post(settings, frame, state, composed, outputs)
+            image = frame.development.finish(self._post(settings, frame, state, composed, outputs))
+            composed = frame.development.finish(composed)
             clock.lap("post")
             self._end_frame(settings, frame, state, plan, copy, [o.counts for o in outputs], image, clock,
                             span, after, seed, next_pose, ahead)
         layer_sums = sum_tensors([o.layers for o in outputs]) if layers else None
         aov_images = {k: _image(v, frame.camera) for k, v in outputs[0].aovs.items()}
-        return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images, composed=composed)
+        return HybridResult(image=image, stats=frame.stats, layers=layer_sums, aovs=aov_images, composed=composed,
+                            pixel_format=frame.development.pixel_format)
 
     def _begin(self, settings: HybridSettings) -> tuple[FrameSpan | None, FrameSpan | None]:
         """The frame's start: in flight (``frames_in_flight=2``, no budget: a budget learns from the
@@ -972,15 +1027,16 @@ class HybridRenderer:
         key = (repr(settings), id(sensor), camera.width, camera.height, aovs, layers)
         if key not in self._setups:
             self._setups[key] = self._setup(settings, sensor, camera, aovs, layers)
-        static, active, candidate_config, every, tiers = self._setups[key]
+        static, active, candidate_config, every, tiers, development = self._setups[key]
         stats = FrameStats(width=camera.width, height=camera.height, spp=int(spp) or sensor.sampler().sample_count(),
                            primary=settings.primary, lights_left_out=self.lighting.lights.approximated,
                            budget_ms=settings.budget_ms)
         return _Frame(sensor=sensor, camera=camera, static=static, setup=key, active=active, stats=stats,
+                      development=development,
                       candidate_config=candidate_config, candidates=every, tiers=tiers)
 
     def _setup(self, settings: HybridSettings, sensor: mi.Sensor, camera: RasterCamera, aovs: tuple[str, ...],
-               layers: bool) -> tuple[PassStatic, np.ndarray, np.ndarray, mi.Int32, np.ndarray]:
+               layers: bool) -> tuple[PassStatic, np.ndarray, np.ndarray, mi.Int32, np.ndarray, Development]:
         kinds = candidate_kinds(settings.candidates, self.scene)
         # the distinct effect sets the candidates deserve, and each object's (-1: not a candidate):
         # fixed for the frame, so that one traced kernel serves every selection. An object that
@@ -1017,7 +1073,8 @@ class HybridRenderer:
             film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
             secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"))
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
-        return static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers
+        return (static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers,
+                Development(film, settings.temporal or settings.denoise))
 
     def _post(self, settings: HybridSettings, frame: _Frame, state: FrameState, image: mi.TensorXf,
               outputs: list[PassOutput]) -> mi.TensorXf:

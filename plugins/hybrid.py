@@ -265,7 +265,7 @@ def _background(scene: mi.Scene, settings: HybridSettings, sensor, seed: int, sp
     stats = FrameStats(width=int(size[0]), height=int(size[1]), spp=int(spp) or sensor.sampler().sample_count(),
                        primary=settings.primary, fallback="the scene has no shapes: Mitsuba's path renders its background")
     stats.times_ms["total"] = (time.perf_counter() - start) * 1e3
-    return HybridResult(image=image, stats=stats)
+    return HybridResult(image=image, stats=stats, pixel_format=sensor.film().bitmap().pixel_format())
 
 
 def register() -> None:

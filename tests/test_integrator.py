@@ -429,6 +429,42 @@ def test_raster_layer_lights_a_diffuse_floor_like_mitsuba(light):
     assert np.allclose(raster[lit], rt[lit], rtol=2e-3, atol=1e-5)
 
 
+def _sphere_on_a_floor(pixel_format: str, **integrator) -> mi.Scene:
+    """A small scene with a film of ``pixel_format`` (the default scene's film is rgb)."""
+    return mi.load_dict({
+        "type": "scene", "integrator": {"type": "hybrid", **integrator},
+        "sensor": {"type": "perspective", "fov": 40,
+                   "to_world": mi.ScalarTransform4f().look_at([0, 1, 5], [0, 0, 0], [0, 1, 0]),
+                   "film": {"type": "hdrfilm", "width": 32, "height": 24, "pixel_format": pixel_format}},
+        "ball": {"type": "sphere", "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.7, 0.3, 0.2]}}},
+        "floor": {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([0, -1, 0]).rotate([1, 0, 0], -90).scale(4)},
+        "light": {"type": "point", "position": [1, 3, 3], "intensity": {"type": "rgb", "value": 20}}})
+
+
+@pytest.mark.parametrize("pixel_format", ["xyz", "xyza", "luminance", "luminance_alpha"])
+def test_a_film_of_another_pixel_format_is_post_processed_in_srgb(pixel_format):
+    """A film whose pixel format is not linear sRGB (hdrfilm's xyz and luminance, with or without
+    alpha): the frame is denoised and accumulated in sRGB, then converted as the film converts
+    (``pipeline.Development``). Until stop 64 the denoiser read three channels of a luminance
+    image and corrupted the heap (the process aborted), and an xyz image was denoised with sRGB
+    guides."""
+    alpha = pixel_format.endswith("a")
+    channels = {"xyz": 3, "xyza": 4, "luminance": 1, "luminance_alpha": 2}[pixel_format]
+    to_film = mi.luminance if pixel_format.startswith("luminance") else mi.srgb_to_xyz
+    def converted(srgb: np.ndarray) -> np.ndarray:
+        return np.array(dr.ravel(to_film(mi.Color3f(*(srgb[..., k].ravel() for k in range(3)))))).reshape(24, 32, -1)
+
+    for props in ({"denoise": False}, {}, {"temporal": True}):  # the film develops; denoised; accumulated too
+        srgb = np.array(mi.render(_sphere_on_a_floor("rgba" if alpha else "rgb", **props), spp=2, seed=5))
+        scene = _sphere_on_a_floor(pixel_format, **props)
+        image = np.array(mi.render(scene, spp=2, seed=5))
+        assert image.shape == (24, 32, channels) and scene.integrator().last_result.pixel_format.name == \
+            {"xyz": "XYZ", "xyza": "XYZA", "luminance": "Y", "luminance_alpha": "YA"}[pixel_format]
+        assert (scene.integrator().last_result.stats.times_ms["denoise"] > 0) == props.get("denoise", True)
+        assert np.allclose(image[..., :channels - alpha], converted(srgb), rtol=1e-5, atol=1e-7), props
+        assert np.allclose(image[..., channels - 1], srgb[..., 3], rtol=1e-6, atol=0) if alpha else True
+
+
 def test_bad_properties_are_clear_errors():
     cases = [({"effects": "glow"}, "unknown effect"), ({"primary": "camera"}, "primary='camera' is not one of"),
              ({"raster": "hardware"}, "raster='hardware' is not one of"),
@@ -494,6 +530,15 @@ def test_cli_compare_reports_time_and_error(tmp_path, capsys, monkeypatch):
     assert cli(args) == 0  # the ground truth now comes from the cache
     assert json.loads((tmp_path / "cmp" / "compare.json").read_text())["ground_truth"]["cached"]
     capsys.readouterr()
+    # the metrics read linear sRGB: a film of another pixel format is refused before the ground truth
+    # renders (it traced through, and a luminance image ended in a ValueError of the metrics)
+    other = tmp_path / "luminance.xml"
+    other.write_text(DEFAULT_SCENE.read_text().replace('name="pixel_format" value="rgb"', 'name="pixel_format" value="luminance"')
+                     .replace('value="meshes/', f'value="{DEFAULT_SCENE.parent}/meshes/'))
+    for command in ("compare", "bench"):
+        assert cli([command, str(other), "-o", str(tmp_path / command), "-D", "resx=48", "-D", "resy=32"]) == 2
+        assert "film develops luminance: give the film pixel_format rgb or rgba" in capsys.readouterr().err
+    assert not (tmp_path / "cache").exists() or len(list((tmp_path / "cache").iterdir())) == 1
 
 
 def test_an_untimed_budget_frame_that_overruns_has_the_next_frame_timed():
