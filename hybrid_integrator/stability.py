@@ -345,6 +345,11 @@ def catalog() -> list[Case]:
              _basic(cam=sensor(origin=(0, 0, 1.2), target=(0, 0, 0), near_clip=0.5)), "agree", 0.98,
              note="Mitsuba's rays start on the near plane; the raster clips there too (reversed-Z)"))
     add(Case("geometry behind the camera", "raster", _basic({"behind": _sphere(0.5, (0, 1, 6))}), "agree", 0.99))
+    add(Case("sphere with a non-uniform scale", "raster",
+             _basic({"ball": {"type": "sphere", "to_world": mi.ScalarTransform4f().scale([0.8, 0.3, 0.5]),
+                              "bsdf": diffuse((0.7, 0.3, 0.2))}}), "agree", 0.99,
+             note="Mitsuba keeps the sphere round (its radius from the x axis; it warns): the proxy is placed by "
+                  "the sphere's bounding box, not by to_world, whose ellipsoid missed rows of it"))
     add(Case("camera inside a closed mesh", "raster",
              lambda: scene({"room": {"type": "cube", "to_world": mi.ScalarTransform4f().scale(5), "bsdf": diffuse()},
                             "ball": _sphere(0.8)}, lights={"light": {"type": "point", "position": [1, 2, 1],

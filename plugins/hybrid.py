@@ -233,6 +233,13 @@ class HybridIntegrator(mi.SamplingIntegrator):
         return self.render_result(scene, sensor=sensor, seed=int(dr.ravel(seed)[0]) if not isinstance(seed, int) else seed,
                                   spp=spp).image
 
+    def sample(self, scene, sampler, ray, medium=None, active=True):
+        """Mitsuba's per-ray interface, which integrators that nest another (``aov``, ``moment``,
+        ...) call: the hybrid renders whole frames (its primaries come from the raster pass), so
+        it has none, and says so (nanobind reported a "pure virtual function")."""
+        raise HybridError("the hybrid integrator renders whole frames and cannot be nested in another integrator "
+                          "(aov, moment, ...): use it at the top level; its G-buffer AOVs come from hi.render(aovs=...)")
+
     def traverse(self, callback) -> None:
         for name, value in self._params.items():
             callback.put(name, value, mi.ParamFlags.NonDifferentiable)

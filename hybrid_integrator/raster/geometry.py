@@ -93,7 +93,7 @@ def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:
         proxy = False
     elif kind in PROXY_TYPES:
         positions, faces = _PROXIES[kind]()
-        to_world = transform_matrix(mi.traverse(shape)["to_world"])
+        to_world = _proxy_to_world(shape, kind)
         positions = (positions @ to_world[:3, :3].T + to_world[:3, 3]).astype(np.float32)
         proxy = True
     else:
@@ -104,6 +104,20 @@ def shape_geometry(shape: mi.Shape, index: int) -> ShapeGeometry:
         bad = int((~np.isfinite(positions)).any(axis=1).sum())
         raise UnsupportedSceneError(f"shape '{name}' has {bad} vertices with NaN or infinite positions")
     return ShapeGeometry(name=name, positions=positions, faces=faces, proxy=proxy)
+
+
+def _proxy_to_world(shape: mi.Shape, kind: str) -> np.ndarray:
+    """The 4×4 matrix that places a proxy on the surface Mitsuba intersects: the shape's
+    ``to_world``, except for a sphere, which Mitsuba keeps round whatever the scale of its
+    ``to_world`` (its radius from the x axis; it warns of a non-uniform scale): that sphere is
+    placed by its bounding box (a non-uniformly scaled sphere's ellipsoid proxy missed rows of it)."""
+    if kind != "Sphere":
+        return transform_matrix(mi.traverse(shape)["to_world"])
+    box = shape.bbox()
+    low, high = np.array(box.min, dtype=np.float64), np.array(box.max, dtype=np.float64)
+    to_world = np.diag(np.r_[np.full(3, (high - low).max() / 2), 1.0])
+    to_world[:3, 3] = (low + high) / 2
+    return to_world
 
 
 def _ring(n: int) -> tuple[np.ndarray, np.ndarray]:
