@@ -465,6 +465,20 @@ def test_a_film_of_another_pixel_format_is_post_processed_in_srgb(pixel_format):
         assert np.allclose(image[..., channels - 1], srgb[..., 3], rtol=1e-6, atol=0) if alpha else True
 
 
+def test_the_hybrid_nested_in_another_integrator_is_a_clear_error():
+    """Integrators that nest another (aov, moment) call its per-ray ``sample``, which the hybrid,
+    rendering whole frames, does not have: an error naming that, not nanobind's "tried to call a
+    pure virtual function"."""
+    scene = mi.load_dict({
+        "type": "scene", "integrator": {"type": "aov", "aovs": "dd.y:depth", "image": {"type": "hybrid"}},
+        "sensor": {"type": "perspective", "film": {"type": "hdrfilm", "width": 16, "height": 12}},
+        "ball": {"type": "sphere"}, "light": {"type": "point", "position": [0, 3, 3]}})
+    with pytest.raises(Exception) as caught:
+        mi.render(scene, spp=1)
+    error = caught.value.__cause__ or caught.value
+    assert isinstance(error, HybridError) and "cannot be nested in another integrator (aov, moment" in str(error)
+
+
 def test_bad_properties_are_clear_errors():
     cases = [({"effects": "glow"}, "unknown effect"), ({"primary": "camera"}, "primary='camera' is not one of"),
              ({"raster": "hardware"}, "raster='hardware' is not one of"),
