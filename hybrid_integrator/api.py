@@ -97,18 +97,41 @@ def finish(scene: mi.Scene) -> None:
         renderer(scene).finish()
 
 
+def _look_at(what: str, key) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A look-at pose ``[origin, target]`` or ``[origin, target, up]`` (default up: +y) as three
+    arrays, or a :class:`HybridError` naming ``what`` and what is wrong with it."""
+    form = "[origin, target] or [origin, target, up], each three finite numbers"
+    try:
+        points = [np.asarray(p, dtype=float) for p in key]
+    except (TypeError, ValueError) as exc:
+        raise HybridError(f"{what} {key!r} is not {form}: {exc}") from exc
+    if len(points) not in (2, 3) or any(p.shape != (3,) or not np.isfinite(p).all() for p in points):
+        raise HybridError(f"{what} {key!r} is not {form}")
+    origin, target, up = (*points, np.array([0.0, 1.0, 0.0]))[:3]
+    view = target - origin
+    if not np.linalg.norm(view) > 0:
+        raise HybridError(f"{what}: origin and target are the same point {origin.tolist()}")
+    if not np.linalg.norm(np.cross(view, up)) > 1e-9 * np.linalg.norm(view) * np.linalg.norm(up):
+        raise HybridError(f"{what}: up {up.tolist()} is zero or along the view direction {view.tolist()}")
+    return origin, target, up
+
+
 def camera_path(keyframes, frames: int) -> list[mi.ScalarTransform4f]:
     """``frames`` camera transforms along the piecewise-linear path through look-at ``keyframes``
-    ``[(origin, target), ...]`` or ``[(origin, target, up), ...]`` (default up: +y)."""
-    keys = [(np.asarray(k[0], float), np.asarray(k[1], float), np.asarray(k[2] if len(k) > 2 else (0, 1, 0), float))
-            for k in keyframes]
+    ``[(origin, target), ...]`` or ``[(origin, target, up), ...]`` (default up: +y). A key frame,
+    or a frame between two, that looks nowhere (its origin on its target, or up along its view)
+    is an error naming it."""
+    if isinstance(keyframes, (str, bytes)) or not hasattr(keyframes, "__iter__"):
+        raise HybridError(f"a camera path is a list of key frames [[origin, target], ...], not {keyframes!r}")
+    keys = [_look_at(f"camera key frame {k}", key) for k, key in enumerate(keyframes)]
     if len(keys) < 2 or frames < 1:
         raise HybridError("a camera path needs at least two key frames and one frame")
     out = []
-    for t in np.linspace(0.0, len(keys) - 1, frames):
+    for n, t in enumerate(np.linspace(0.0, len(keys) - 1, frames)):
         i = min(int(t), len(keys) - 2)
         u = t - i
-        origin, target, up = ((1 - u) * a + u * b for a, b in zip(keys[i], keys[i + 1]))
+        pose = [(1 - u) * a + u * b for a, b in zip(keys[i], keys[i + 1])]
+        origin, target, up = _look_at(f"frame {n} of the camera path (between key frames {i} and {i + 1})", pose)
         out.append(mi.ScalarTransform4f().look_at(origin=origin.tolist(), target=target.tolist(), up=up.tolist()))
     return out
 

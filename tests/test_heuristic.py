@@ -397,6 +397,18 @@ def test_render_sequence_carries_selection_and_restores_the_camera():
     assert np.allclose(np.array(params["to_world"].matrix), before)
     with pytest.raises(hi.HybridError, match="at least two key frames"):
         hi.camera_path([((0, 0, 1), (0, 0, 0))], 3)
+    # a path that looks nowhere names where (it ended in "camera pose [[nan, ...]] is not a finite,
+    # invertible transform", or a ValueError / TypeError traceback)
+    for keys, message in [(5, r"a camera path is a list of key frames \[\[origin, target\], ...\], not 5"),
+                          ([(0, 0, 4), (0, 0, 0)], r"camera key frame 0 \(0, 0, 4\) is not \[origin, target\]"),
+                          ([((0, 0, "a"), (0, 0, 0)), ((0, 1, 4), (0, 0, 0))], "could not convert string to float"),
+                          ([((0, 0, math.nan), (0, 0, 0)), ((0, 1, 4), (0, 0, 0))], "each three finite numbers"),
+                          ([((0, 0, 4), (0, 0, 0)), ((0, 0, 4), (0, 0, 4))], "key frame 1: origin and target are the same"),
+                          ([((0, 0, 4), (0, 0, 0), (0, 0, 1)), ((0, 1, 4), (0, 0, 0))], "key frame 0: up .* along the view"),
+                          ([((0, 0, 4), (0, 0, 0)), ((0, 0, -4), (0, 0, 0))],
+                           r"frame 1 of the camera path \(between key frames 0 and 1\): origin and target are the same")]:
+        with pytest.raises(hi.HybridError, match=message):
+            hi.camera_path(keys, 3)
 
 
 @pytest.mark.parametrize("props, message", [({"selection": "best"}, "selection='best' is not one of"),
