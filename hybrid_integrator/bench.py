@@ -82,7 +82,7 @@ import mitsuba as mi
 import numpy as np
 
 from .compare import ground_truth, render_path, timed_path, timed_path_denoised
-from .errors import HybridError, require_counts, require_srgb
+from .errors import HybridError, require_counts, require_fractions, require_srgb
 from .metrics import errors_in_parallel
 from .pipeline import HybridSettings, resolve_refine
 from .primary import resolve_outline
@@ -226,6 +226,7 @@ def turn_budgets(args: argparse.Namespace, warmup: int) -> Iterator[tuple[TurnSc
     plugin registered): each scene made ready (:func:`turn_scene`, with the poses
     :func:`turn_poses` gives for ``warmup`` rounds of ``args.block`` frames; its all-candidates trace
     time printed), then each fraction of ``args.budgets`` as (scene, fraction, budget ms)."""
+    require_fractions("--budgets", args.budgets)
     for path in args.scenes:
         ready = turn_scene(str(path), dict(args.defines), turn_poses(args.frames, warmup, args.block))
         print(f"{ready.name}: all-candidates trace {ready.all_candidates_trace_ms:.3f} ms", flush=True)
@@ -396,6 +397,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
 
     params = dict(params or {})
     require_counts("bench", frames=frames, spp=spp, gt_spp=gt_spp, max_path_spp=max_path_spp)
+    require_fractions("bench", budgets)
     scene, name = load_bench_scene(spec, params)
     host_start = host_loops()
     max_depth = int(properties.get("max_depth", -1))

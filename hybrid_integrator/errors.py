@@ -33,6 +33,14 @@ def require_srgb(command: str, pixel_format) -> None:
                           f"{name}: give the film pixel_format rgb or rgba")
 
 
+def require_fractions(command: str, budgets) -> None:
+    """A :class:`HybridError` naming each of ``budgets`` (fractions of the all-candidates trace
+    time) that is negative or not a number."""
+    bad = [f for f in budgets if not 0 <= f < float("inf")]
+    if bad:
+        raise HybridError(f"{command}: budgets {bad} must be fractions >= 0 of the all-candidates trace time")
+
+
 def require_counts(command: str, **counts: int) -> None:
     """A :class:`HybridError` naming each of ``counts`` (frames, samples per pixel) below 1."""
     low = [f"{name}={value}" for name, value in counts.items() if value < 1]

@@ -139,6 +139,9 @@ def test_bench_jobs_on_ray_keep_their_order(tmp_path):
 @pytest.mark.parametrize("args, message", [(["procedural:10"], "triangles=10 must lie in"),
                                            (["procedural:abc"], "'abc' is not a number of triangles"),
                                            ([str(DEFAULT_SCENE), "--max-path-spp", "0"], "bench: max_path_spp=0 must be >= 1"),
+                                           # a negative fraction ran as 1e-6 ms, reported as 'hybrid@-50%'
+                                           ([str(DEFAULT_SCENE), "--budgets", "0.5", "-0.5", "nan"],
+                                            "bench: budgets [-0.5, nan] must be fractions >= 0"),
                                            (["--scaling", "triangles"], "needs --values"),
                                            (["--scaling", "resolution", "--values", "1280by720"],
                                             "['1280by720'] are not resolutions WxH"),
