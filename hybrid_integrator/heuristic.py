@@ -453,10 +453,12 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
         index, tier = np.concatenate([index, extra]), np.concatenate([tier, np.ones(len(extra), dtype=bool)])
     keys = index + n * tier
     weights = error_weights(keys, errors, unlearnt=np.where(tier, 0.0, 1.0))  # a tier: nothing until measured (module docstring)
-    kinds = np.where(tier[:, None], SHADOW_KIND, active[index])
-    prior = kinds * typical_rays(rays_table, active)
     learnt = rows_of(rays_table, keys)
-    per_pixel = np.where(np.isfinite(learnt).any(axis=1, keepdims=True), np.nan_to_num(learnt), prior)
+    per_pixel = np.nan_to_num(learnt)
+    new = ~np.isfinite(learnt).any(axis=1)  # rows never traced: the prior of their own kinds
+    if new.any():
+        kinds = np.where(tier[new, None], SHADOW_KIND, active[index[new]])
+        per_pixel[new] = kinds * typical_rays(rays_table, active)
     pixels = cov.pixels[index]
     relevance = terms.bonus[index] + terms.visibility[index] * weights
     expected = pixels if growth is None else pixels * growth[index]
