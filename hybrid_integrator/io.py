@@ -128,23 +128,26 @@ def contact_sheet(path: str | Path, gb: GBuffer) -> Path:
 
 def write_result(exr: str | Path, result, **extra) -> dict:
     """A rendered frame (``HybridResult``) as files beside each other, each written atomically:
-    ``exr`` (the image, the ``raster`` and ``rt`` layers and the ``traced`` mask), a PNG of the
-    image, and a JSON of its statistics (with ``extra`` fields first), written last: a frame
-    whose JSON is there is complete. Returns the paths and the statistics."""
+    ``exr`` (the image, its channels named by the film's pixel format: R G B (A), X Y Z (A) or
+    Y (A); the ``raster`` and ``rt`` layers, sRGB, and the ``traced`` mask), a PNG of the image
+    (converted to sRGB by ``mi.Bitmap``), and a JSON of its statistics (with ``extra`` fields
+    first), written last: a frame whose JSON is there is complete. Returns the paths and the
+    statistics."""
     import json
 
     import mitsuba as mi
 
     exr = Path(exr)
     image = np.array(result.image, dtype=np.float32)
-    channels = {c: image[..., k] for k, c in enumerate("RGBA"[:image.shape[2]])}
+    channels = {c: image[..., k] for k, c in enumerate(result.pixel_format.name)}
     for layer in ("raster", "rt"):
         channels.update({f"{layer}.{c}": result.layers[layer][..., k] for k, c in enumerate("RGB")})
     channels["traced.Y"] = result.layers["traced"].astype(np.float32)
     write_exr(exr, channels)
     png = exr.with_suffix(".png")
     with atomic_path(png) as tmp:
-        mi.util.write_bitmap(str(tmp), image[..., :3], write_async=False)
+        preview = mi.Bitmap(image, pixel_format=result.pixel_format)
+        preview.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.UInt8, srgb_gamma=True).write(str(tmp))
     stats = {**extra, **result.stats.as_dict()}
     write_text(exr.with_suffix(".json"), json.dumps(stats, indent=2))
     return {"exr": str(exr), "png": str(png), "stats": stats}

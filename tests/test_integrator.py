@@ -442,12 +442,15 @@ def _sphere_on_a_floor(pixel_format: str, **integrator) -> mi.Scene:
 
 
 @pytest.mark.parametrize("pixel_format", ["xyz", "xyza", "luminance", "luminance_alpha"])
-def test_a_film_of_another_pixel_format_is_post_processed_in_srgb(pixel_format):
+def test_a_film_of_another_pixel_format_is_post_processed_in_srgb(pixel_format, tmp_path):
     """A film whose pixel format is not linear sRGB (hdrfilm's xyz and luminance, with or without
     alpha): the frame is denoised and accumulated in sRGB, then converted as the film converts
-    (``pipeline.Development``). Until stop 64 the denoiser read three channels of a luminance
-    image and corrupted the heap (the process aborted), and an xyz image was denoised with sRGB
-    guides."""
+    (``pipeline.Development``), and written with its channels so named, its PNG preview in sRGB.
+    Until stop 64 the denoiser read three channels of a luminance image and corrupted the heap
+    (the process aborted), an xyz image was denoised with sRGB guides, and the EXR called X, Y, Z
+    (or Y) R, G, B (or R), the PNG showing XYZ as sRGB."""
+    from hybrid_integrator.io import write_result
+
     alpha = pixel_format.endswith("a")
     channels = {"xyz": 3, "xyza": 4, "luminance": 1, "luminance_alpha": 2}[pixel_format]
     to_film = mi.luminance if pixel_format.startswith("luminance") else mi.srgb_to_xyz
@@ -463,6 +466,15 @@ def test_a_film_of_another_pixel_format_is_post_processed_in_srgb(pixel_format):
         assert (scene.integrator().last_result.stats.times_ms["denoise"] > 0) == props.get("denoise", True)
         assert np.allclose(image[..., :channels - alpha], converted(srgb), rtol=1e-5, atol=1e-7), props
         assert np.allclose(image[..., channels - 1], srgb[..., 3], rtol=1e-6, atol=0) if alpha else True
+    written = {}
+    for name, scene in (("srgb", _sphere_on_a_floor("rgb")), ("film", _sphere_on_a_floor(pixel_format))):
+        mi.render(scene, spp=2, seed=5)
+        write_result(tmp_path / f"{name}.exr", scene.integrator().last_result)
+        written[name] = (read_exr(tmp_path / f"{name}.exr")[0], np.array(mi.Bitmap(str(tmp_path / f"{name}.png"))))
+    assert sorted(k for k in written["film"][0] if "." not in k) == sorted(
+        {"xyz": "XYZ", "xyza": "XYZA", "luminance": "Y", "luminance_alpha": "YA"}[pixel_format])
+    if pixel_format.startswith("xyz"):  # the preview of an XYZ frame is the sRGB frame's, to a level
+        assert np.abs(written["film"][1].astype(int) - written["srgb"][1].astype(int)).max() <= 1
 
 
 def test_the_hybrid_nested_in_another_integrator_is_a_clear_error():
