@@ -81,8 +81,8 @@ from pathlib import Path
 import mitsuba as mi
 import numpy as np
 
-from .compare import ground_truth, render_path, timed_path, timed_path_denoised
-from .errors import HybridError, require_counts, require_fractions, require_srgb
+from .compare import ground_truth, render_path, require_srgb, timed_path, timed_path_denoised
+from .errors import HybridError, require_counts, require_fractions
 from .metrics import errors_in_parallel
 from .pipeline import HybridSettings, resolve_refine
 from .primary import resolve_outline
@@ -403,7 +403,7 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
     max_depth = int(properties.get("max_depth", -1))
     reference, gt_file, cached = None, None, False
     if accuracy:
-        require_srgb("bench", hi.render(scene, spp=1, seed=seed, layers=False, candidates="").pixel_format)
+        require_srgb("bench", scene, **properties)
         reference, gt_file, cached = ground_truth(spec if not spec.startswith("procedural:") else name, scene, params,
                                                   gt_spp, max_depth)
     sensor = scene.sensors()[0]

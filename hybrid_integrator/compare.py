@@ -27,7 +27,7 @@ import mitsuba as mi
 import numpy as np
 
 from .cache import disk_cache
-from .errors import require_counts, require_srgb
+from .errors import HybridError, require_counts
 from .metrics import image_error
 from .scene import load_scene
 
@@ -175,6 +175,23 @@ def ground_truth(scene_path: Path | str, scene: mi.Scene, params: dict, spp: int
     return image, file, False
 
 
+def require_srgb(command: str, scene: mi.Scene, **properties) -> None:
+    """A :class:`HybridError` where ``command`` would measure the error of images that are not
+    linear sRGB: FLIP, relative MSE and ΔE2000 (``metrics.py``) read an image's first three
+    channels as linear sRGB, and a film of another pixel format (hdrfilm's xyz, luminance)
+    develops something else. The film's format is known once it has developed a frame
+    (``pipeline.Development``): one raster-layer frame of the hybrid with ``properties``, made
+    before the ground truth's render, which the error would waste."""
+    import hybrid_integrator as hi
+    from .pipeline import SRGB
+
+    pixel_format = hi.render(scene, spp=1, layers=False, **{**properties, "candidates": ""}).pixel_format
+    if pixel_format not in SRGB:
+        name = {"Y": "luminance", "YA": "luminance_alpha"}.get(pixel_format.name, pixel_format.name.lower())
+        raise HybridError(f"{command} measures error on linear sRGB images, and the scene's film develops "
+                          f"{name}: give the film pixel_format rgb or rgba")
+
+
 def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, seed: int = 0,
             out_dir: Path | None = None, **properties) -> dict:
     """Render every method, measure it against the ground truth; write images and a report to
@@ -191,7 +208,7 @@ def compare(scene_path: Path, params: dict, spp: int = 16, gt_spp: int = 1024, s
         "hybrid": lambda: hi.render(scene, spp=spp, seed=seed, **properties),
         "rt-baseline": lambda: hi.render(scene, spp=spp, seed=seed, **{**properties, "primary": "raytrace"}),
     }
-    require_srgb("compare", runs["raster"]().pixel_format)  # before the ground truth's render
+    require_srgb("compare", scene, **properties)
     reference, gt_file, cached = ground_truth(scene_path, scene, params, gt_spp, max_depth)
     rows, images, maps = [], {}, {}
     for name, run in runs.items():

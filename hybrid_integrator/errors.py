@@ -22,17 +22,6 @@ class RasterContextError(HybridError):
     """No headless OpenGL context could be created."""
 
 
-def require_srgb(command: str, pixel_format) -> None:
-    """A :class:`HybridError` where ``command`` would measure the error of images that are not
-    linear sRGB: FLIP, relative MSE and ΔE2000 (``metrics.py``) read an image's first three
-    channels as linear sRGB, and a film of another ``pixel_format`` (a ``mi.Bitmap.PixelFormat``:
-    hdrfilm's xyz, luminance) develops something else."""
-    if pixel_format.name not in ("RGB", "RGBA"):
-        name = {"Y": "luminance", "YA": "luminance_alpha"}.get(pixel_format.name, pixel_format.name.lower())
-        raise HybridError(f"{command} measures error on linear sRGB images, and the scene's film develops "
-                          f"{name}: give the film pixel_format rgb or rgba")
-
-
 def require_fractions(command: str, budgets) -> None:
     """A :class:`HybridError` naming each of ``budgets`` (fractions of the all-candidates trace
     time) that is negative or not a number."""

@@ -360,7 +360,8 @@ def visibility_terms(cov: Coverage, active: np.ndarray, selected_last: set[int],
 class Candidates:
     """The visible candidates of one frame, eq. 1–3 as arrays (a row each): what the selection
     reads, without a Python object per candidate (2 000 objects: 0.43 ms on a CPU of the CI
-    machine, 0.6 in a frame, its caches cold; the stability report's selection time cases). An object with a *shadow tier* (:func:`candidates`) has a second row."""
+    machine, 0.6 in a frame, its caches cold; the stability report's selection time cases). An
+    object with a *shadow tier* (:func:`candidates`) has a second row."""
 
     index: np.ndarray  # object indices
     pixels: np.ndarray
@@ -401,13 +402,14 @@ def typical_rays(rays_table: np.ndarray, active: np.ndarray) -> np.ndarray:
     2 000 objects 0.08 ms, against 0.18 with the statistics module's median of each kind)."""
     deserves = np.vstack([active, np.broadcast_to(SHADOW_KIND, active.shape)])[:len(rays_table)]
     chosen = np.isfinite(rays_table).all(axis=1)[:, None] & deserves
+    fixed = np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
+    if not len(rays_table):
+        return fixed
     count = chosen.sum(axis=0)
     ranked = np.sort(np.where(chosen, rays_table, np.inf), axis=0)
-    if not len(ranked):
-        return np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
     cols = np.arange(len(KINDS))
     middle = 0.5 * (ranked[np.maximum(count - 1, 0) // 2, cols] + ranked[count // 2, cols])
-    return np.where(count > 0, middle, [PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
+    return np.where(count > 0, middle, fixed)
 
 
 #: the most an object's pixels are expected to grow from one frame to the next (pixel_growth)
@@ -452,7 +454,8 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
         extra = index[np.asarray(tiers, dtype=bool)[index]]
         index, tier = np.concatenate([index, extra]), np.concatenate([tier, np.ones(len(extra), dtype=bool)])
     keys = index + n * tier
-    weights = error_weights(keys, errors, unlearnt=np.where(tier, 0.0, 1.0))  # a tier: nothing until measured (module docstring)
+    # a tier is worth nothing until measured (module docstring)
+    weights = error_weights(keys, errors, unlearnt=np.where(tier, 0.0, 1.0))
     learnt = rows_of(rays_table, keys)
     per_pixel = np.nan_to_num(learnt)
     new = ~np.isfinite(learnt).any(axis=1)  # rows never traced: the prior of their own kinds
