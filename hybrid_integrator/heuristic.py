@@ -359,8 +359,8 @@ def visibility_terms(cov: Coverage, active: np.ndarray, selected_last: set[int],
 @dataclass(frozen=True)
 class Candidates:
     """The visible candidates of one frame, eq. 1–3 as arrays (a row each): what the selection
-    reads, without a Python object per candidate (2 000 objects: 0.43 ms on a CPU of the CI
-    machine, 0.6 in a frame, its caches cold; the stability report's selection time cases). An
+    reads, without a Python object per candidate (2 000 objects: 0.35 ms on a CPU of the CI
+    machine, 0.63 in a frame, its caches cold; docs/results/gpu/issue10/stop64/plan_time.py). An
     object with a *shadow tier* (:func:`candidates`) has a second row."""
 
     index: np.ndarray  # object indices
@@ -399,7 +399,8 @@ def typical_rays(rays_table: np.ndarray, active: np.ndarray) -> np.ndarray:
     object deserves that kind (``active``, objects × kinds; a tier: shadow only), or
     ``PRIOR_RAYS_PER_PIXEL`` while no such row is learnt. Every kind's median from one sort of
     the table, the rows not chosen sorted last as +inf (this runs once a frame, on the host: at
-    2 000 objects 0.08 ms, against 0.18 with the statistics module's median of each kind)."""
+    2 000 objects 0.07 ms, docs/results/gpu/issue10/stop64/plan_time.py; one statistics-module
+    median per kind before))."""
     deserves = np.vstack([active, np.broadcast_to(SHADOW_KIND, active.shape)])[:len(rays_table)]
     chosen = np.isfinite(rays_table).all(axis=1)[:, None] & deserves
     fixed = np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])

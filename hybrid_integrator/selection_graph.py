@@ -192,8 +192,8 @@ def select_rows(method: str, cost: np.ndarray, relevance: np.ndarray, budget: fl
     """:func:`select_nested` or :func:`select_greedy` on arrays (a row per node, in any order):
     the rows picked. ``base`` (per row, -1: none) marks rows that upgrade another option of the
     same object (:func:`upgrades`); of an object's options the costliest picked is returned.
-    3 228 rows (2 000 objects and their shadow tiers) take 0.09 ms on a CPU of the CI machine
-    (0.2 in a frame, its caches cold)."""
+    3 228 rows (2 000 objects and their shadow tiers) take 0.07 ms on a CPU of the CI machine
+    (docs/results/gpu/issue10/stop64/plan_time.py)."""
     row_cost, row_relevance = np.asarray(cost, dtype=np.float64), np.asarray(relevance, dtype=np.float64)
     requires = np.full(len(row_cost), -1, dtype=np.int64)
     cost, relevance = row_cost, row_relevance
