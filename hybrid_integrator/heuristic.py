@@ -63,6 +63,7 @@ so is worth nothing, and one that leaves as much error as the raster layer is ne
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import drjit as dr
@@ -303,12 +304,24 @@ class VisibilityTerms:
 
 def rows_of(table: np.ndarray, keys: np.ndarray) -> np.ndarray:
     """The rows ``keys`` of a table learnt per row (``budget.FrameState``), NaN where the table
-    has no such row yet."""
+    has no such row yet (one gather from the table with a NaN row appended, every key past the
+    table's end pointed at it)."""
     table = np.asarray(table, dtype=np.float64)
-    out = np.full((len(keys),) + table.shape[1:], np.nan)
-    inside = keys < len(table)
-    out[inside] = table[keys[inside]]
-    return out
+    padded = np.concatenate([table, np.full((1,) + table.shape[1:], np.nan)])
+    return padded[np.minimum(keys, len(table))]
+
+
+def by_kind(table: np.ndarray) -> np.ndarray:
+    """The sum over the rows of a (rows × KINDS) table, per kind, as a matrix product: the plan
+    makes a few such sums over thousands of rows each frame, and numpy's ``sum(axis=0)`` (and
+    ``any(axis=1)``) over a table four columns wide costs ~20 µs at 2 000 rows, a product ~3."""
+    return np.ones(len(table)) @ table
+
+
+def any_kind(mask: np.ndarray) -> np.ndarray:
+    """Per row of a (rows × KINDS) bool table, whether any kind is set, as its columns or-ed
+    (~4 µs at 2 000 rows against ``any(axis=1)``'s ~20: :func:`by_kind`)."""
+    return functools.reduce(np.logical_or, mask.T, np.zeros(len(mask), dtype=bool))
 
 
 def _bonus(n_objects: int, selected_last: set[int], importance: float) -> np.ndarray:
@@ -353,14 +366,15 @@ def visibility_terms(cov: Coverage, active: np.ndarray, selected_last: set[int],
     visibility = area * centrality / distance
     bonus = _bonus(len(n), selected_last, importance)
     relevance = bonus + (visibility if errors is None else visibility * error_weights(np.arange(len(n)), errors))
-    return VisibilityTerms(area, centrality, distance, visibility, bonus, relevance, active.any(axis=1) & (n > 0))
+    return VisibilityTerms(area, centrality, distance, visibility, bonus, relevance, any_kind(active) & (n > 0))
 
 
 @dataclass(frozen=True)
 class Candidates:
     """The visible candidates of one frame, eq. 1–3 as arrays (a row each): what the selection
-    reads, without a Python object per candidate (2 000 objects: 0.35 ms on a CPU of the CI
-    machine, 0.63 in a frame, its caches cold; docs/results/gpu/issue10/stop64/plan_time.py). An
+    reads, without a Python object per candidate (2 000 objects: 0.25 ms on a CPU of the CI
+    machine, 0.5 in a frame, where the LLVM backend's threads run beside it;
+    docs/results/gpu/issue10/stop64/plan_time.py, outputs in stop65/outputs). An
     object with a *shadow tier* (:func:`candidates`) has a second row."""
 
     index: np.ndarray  # object indices
@@ -385,7 +399,7 @@ class Candidates:
 
     def rays_of(self, rows) -> dict[str, float]:
         """The expected rays of the candidates ``rows`` (an index or mask), summed, by kind."""
-        total = self.rays[rows].reshape(-1, len(KINDS)).sum(axis=0)
+        total = by_kind(self.rays[rows].reshape(-1, len(KINDS)))
         return {kind: float(v) for kind, v in zip(KINDS, total) if v > 0}
 
 
@@ -399,14 +413,14 @@ def typical_rays(rays_table: np.ndarray, active: np.ndarray) -> np.ndarray:
     object deserves that kind (``active``, objects × kinds; a tier: shadow only), or
     ``PRIOR_RAYS_PER_PIXEL`` while no such row is learnt. Every kind's median from one sort of
     the table, the rows not chosen sorted last as +inf (this runs once a frame, on the host: at
-    2 000 objects 0.07 ms, docs/results/gpu/issue10/stop64/plan_time.py; one statistics-module
+    2 000 objects 0.045 ms, docs/results/gpu/issue10/stop64/plan_time.py; one statistics-module
     median per kind before))."""
     deserves = np.vstack([active, np.broadcast_to(SHADOW_KIND, active.shape)])[:len(rays_table)]
-    chosen = np.isfinite(rays_table).all(axis=1)[:, None] & deserves
+    chosen = np.isfinite(rays_table[:, :1]) & deserves  # a row is learnt whole (budget.blend_rows)
     fixed = np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
     if not len(rays_table):
         return fixed
-    count = chosen.sum(axis=0)
+    count = by_kind(chosen).astype(np.int64)
     ranked = np.sort(np.where(chosen, rays_table, np.inf), axis=0)
     cols = np.arange(len(KINDS))
     middle = 0.5 * (ranked[np.maximum(count - 1, 0) // 2, cols] + ranked[count // 2, cols])
@@ -457,9 +471,8 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     keys = index + n * tier
     # a tier is worth nothing until measured (module docstring)
     weights = error_weights(keys, errors, unlearnt=np.where(tier, 0.0, 1.0))
-    learnt = rows_of(rays_table, keys)
-    per_pixel = np.nan_to_num(learnt)
-    new = ~np.isfinite(learnt).any(axis=1)  # rows never traced: the prior of their own kinds
+    per_pixel = rows_of(rays_table, keys)
+    new = np.isnan(per_pixel[:, 0])  # rows never traced (a row is learnt whole): the prior of their own kinds
     if new.any():
         kinds = np.where(tier[new, None], SHADOW_KIND, active[index[new]])
         per_pixel[new] = kinds * typical_rays(rays_table, active)

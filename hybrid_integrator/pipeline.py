@@ -60,7 +60,7 @@ from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
 from . import history
 from .frozen import FrozenFunction, FrozenScene
-from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, candidate_kinds, candidates,
+from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, by_kind, candidate_kinds, candidates,
                         coverage_sums, default_kinds, pixel_growth, visibility_terms)
 from .inflight import FRAMES_IN_FLIGHT, FrameSpan, InFlight
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
@@ -1314,7 +1314,7 @@ class HybridRenderer:
         else:
             stats.rays["camera"] = len(passes) * frame.camera.width * frame.camera.height
         per_object = sum(p.rays for p in passes)  # objects × kinds
-        stats.rays.update(zip(RAY_KINDS, (int(v) for v in per_object.sum(axis=0))))
+        stats.rays.update(zip(RAY_KINDS, (int(v) for v in by_kind(per_object))))
         stats.pixels_traced = sum(p.pixels for p in passes)
         stats.proxy_refinements = sum(p.proxy_refined for p in passes)
         stats.edge_refinements = sum(p.edge_refined for p in passes)
@@ -1451,7 +1451,7 @@ class HybridRenderer:
             # the refit waits for the next prediction: the next frame's plan, made ahead (_plan_ahead,
             # _account), or in its _select if that plan is dropped here
             per_object, passes, expected = learnt
-            state.cost_model.observe(dict(zip(RAY_KINDS, per_object.sum(axis=0) / passes)),
+            state.cost_model.observe(dict(zip(RAY_KINDS, by_kind(per_object) / passes)),
                                      stats.times_ms["trace"] / passes, expected=expected, fit=False)
             if state.next_plan and stats.times_ms["trace"] > stats.predicted_trace_ms:
                 # made ahead by a model that this trace has just shown too optimistic: the next

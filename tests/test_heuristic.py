@@ -120,6 +120,27 @@ def test_an_object_never_traced_expects_what_the_traced_ones_spawned():
     assert typical_rays(np.empty((0, len(KINDS))), active).tolist() == [PRIOR_RAYS_PER_PIXEL[k] for k in KINDS]
 
 
+def test_the_plans_table_helpers_equal_numpys_reductions():
+    """heuristic.rows_of / by_kind / any_kind (the plan's gathers and reductions over a
+    rows × KINDS table, written as one gather, a matrix product and or-ed columns for speed) give
+    what numpy's own indexing, ``sum(axis=0)`` and ``any(axis=1)`` give, at the edges too: keys
+    past the table's end (NaN rows), an empty table, a 1-D table, no rows."""
+    from hybrid_integrator.heuristic import any_kind, by_kind, rows_of
+
+    rng = np.random.default_rng(7)
+    for rows in (0, 1, 5, 300):
+        table = rng.random((rows, len(KINDS)))
+        mask = rng.random((rows, len(KINDS))) < 0.3
+        assert np.array_equal(any_kind(mask), mask.any(axis=1))
+        assert np.allclose(by_kind(table), table.sum(axis=0), rtol=1e-12, atol=0.0)
+        keys = rng.integers(0, rows + 4, size=17)
+        expected = np.array([table[k] if k < rows else np.full(len(KINDS), np.nan) for k in keys])
+        assert np.array_equal(rows_of(table, keys), expected, equal_nan=True)
+        flat = table[:, 0].copy()
+        assert np.array_equal(rows_of(flat, keys), np.array([flat[k] if k < rows else np.nan for k in keys]), equal_nan=True)
+    assert rows_of(np.empty((0, len(KINDS))), np.empty(0, dtype=np.int64)).shape == (0, len(KINDS))
+
+
 def test_a_moving_camera_plans_the_pixels_an_object_gains():
     """An object whose pixels grew from the frame before the last to the last is expected to grow
     as much again (heuristic.pixel_growth: at least 1, at most MAX_GROWTH; 1 where it was not seen
