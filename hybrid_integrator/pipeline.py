@@ -65,7 +65,7 @@ from .heuristic import (BLOCKS, RELEVANCE, Coverage, active_kinds, add_error, by
 from .inflight import FRAMES_IN_FLIGHT, FrameSpan, InFlight
 from .lighting import INPUTS, DeferredLighting, LightTable, ambient_table, learn_ambient, shade, with_ambient
 from .objects import scene_objects
-from .primary import PrimaryHits, camera_rays, primary_hits, raster_hits, resolve_outline, resolved, traced_hits
+from .primary import PrimaryHits, camera_rays, first_hits, primary_hits, raster_hits, resolve_outline, resolved, traced_hits
 from .raster.camera import RasterCamera, camera_pose, resolve_sensor
 from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
@@ -302,6 +302,7 @@ class FrameStats:
     pixels_traced: int = 0  # traced pixel-samples, summed over passes
     proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
     edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
+    emitter_refinements: int = 0  # pixel-samples of area emitters re-traced past them (hide_emitters, primary.py)
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
     #: sample passes whose visibility buffer the frame before drew (``raster_ahead``), and passes
@@ -529,7 +530,7 @@ class PassOutput:
     image: mi.TensorXf  # the image block (film filter, weight channel last)
     layers: object  # the layer block (raster, rt, traced, weight) or None
     #: rays per object of each kind (RAY_KINDS order), traced pixels, then as float bits the
-    #: coverage sums (heuristic.coverage_sums, BLOCKS × objects) and the proxy and edge refinements
+    #: coverage sums (heuristic.coverage_sums, BLOCKS × objects) and the proxy, edge and hidden-emitter refinements
     counts: mi.UInt32
     aovs: dict
     guides: object = None  # the guide block (albedo, normal, weight) or None
@@ -546,6 +547,7 @@ class PassCounts:
     pixels: int
     proxy_refined: int
     edge_refined: int
+    emitter_refined: int
 
     @classmethod
     def read(cls, words: np.ndarray, n_objects: int) -> "PassCounts":
@@ -554,8 +556,7 @@ class PassCounts:
         end = len(RAY_KINDS) * width
         rays = words[:end].astype(np.int64).reshape(len(RAY_KINDS), width)[:, :n_objects].T
         sums = words[end + 1:].view(np.float32)
-        return cls(sums[:BLOCKS * width], rays, int(words[end]), int(sums[BLOCKS * width]),
-                   int(sums[BLOCKS * width + 1]))
+        return cls(sums[:BLOCKS * width], rays, int(words[end]), *(int(v) for v in sums[BLOCKS * width:BLOCKS * width + 3]))
 
 
 @dataclass
@@ -586,7 +587,7 @@ def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye
     """Deferred lighting (stage 2, §3.1) and selection (stage 3, §4) at the primary hits ``hits``;
     also whether each hit's paths are expected to be long (``selection.long_paths``)."""
     targets = aov_values(scene, hits, static.targets, data.constants)
-    if static.hide_emitters:
+    if static.hide_emitters:  # the environment behind the geometry (area emitters: first_hits passed them)
         targets["emission"] = [dr.zeros(mi.Float, dr.width(hits.valid)) for _ in range(3)]
     shaded = shade(targets, hits.valid, -hits.ray.d, data.lights)
     albedo = mi.Color3f(*targets["albedo"])
@@ -613,7 +614,7 @@ def refined_lanes(scene: mi.Scene, hits: PrimaryHits, chosen: Selection, data: P
         config = dr.gather(mi.UInt32, chosen.config, pixel, busy)
 
         def refine(lane, traced, config):
-            pi = scene.ray_intersect_preliminary(lane.ray, False, again)
+            pi = first_hits(scene, lane.ray, again, static.hide_emitters)
             dr.scatter(found, pi, pixel, first)
             lane = resolved(lane, pi, again, data.tables)
             own = pixel_selection(lane, data, static)
@@ -660,7 +661,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     # 1. primary visibility: the raster's triangles (paper §3.1) or camera rays (the baseline, §8);
     # the raster's refined pixels traced here, or in stage 4's launch (``refine="trace"``)
     if static.primary == "raster" and static.refine == "trace":
-        hits = raster_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline)
+        hits = raster_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline, static.hide_emitters)
         clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
         # stages 3, 4, then 2: the refined pixels' hits are found in stage 4's launch, first
         chosen = pixel_selection(hits, data, static)
@@ -677,15 +678,15 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         terms, _ = lit(resolved(hits, found, refined, data.tables), "object", "valid", "depth", "traced", "config")
     else:
         if static.primary == "raster":
-            hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline)
+            hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline, static.hide_emitters)
         else:
-            hits = traced_hits(scene, ray, data.tables)
+            hits = traced_hits(scene, ray, data.tables, static.hide_emitters)
         clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
         terms, long = lit(hits)
         clock.mark("select", terms.traced, terms.config, long if static.long_first else None)
         rt, direct, counts = trace(hits, terms.traced, terms.config, long)
     # coverage (eq. 1), then the refined pixels: proxies, silhouettes and misses
-    sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=2)
+    sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=3)
     n = max(static.n_objects, 1)
     sums.add(mi.Float(1.0), BLOCKS * n - 1 + hits.refined, hits.refined > 0)
     raster_layer, albedo = terms.raster, terms.albedo
@@ -1318,6 +1319,7 @@ class HybridRenderer:
         stats.pixels_traced = sum(p.pixels for p in passes)
         stats.proxy_refinements = sum(p.proxy_refined for p in passes)
         stats.edge_refinements = sum(p.edge_refined for p in passes)
+        stats.emitter_refinements = sum(p.emitter_refined for p in passes)
         covs = [self._coverage(frame, p) for p in passes]
         cov = covs[0]
         if plan is None and not frame.traces:  # no candidate at all: nothing traced, nothing to order

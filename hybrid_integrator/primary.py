@@ -29,7 +29,11 @@ counted in the frame statistics:
   every outline pixel (:func:`silhouettes`): at 320×180, 3–17 % of a frame's pixels against
   0.2–1.3 % (``docs/results/cpu/refine_need.md``);
 - pixels whose camera ray misses the raster's triangle by more than the snapping can explain
-  (``MISS_TOLERANCE`` in barycentric units).
+  (``MISS_TOLERANCE`` in barycentric units);
+- with ``hide_emitters``, pixels that show an area emitter: Mitsuba's ``path`` hides area emitters
+  from camera rays altogether (its camera rays pass through them, ``skip_area_emitters``), so
+  such a pixel shows what lies behind the emitter, which only its ray can find
+  (:func:`first_hits`).
 
 Within one object a sample on a shared edge may name either triangle: the intersection with the
 named one, clamped into it, is the same point.
@@ -77,7 +81,7 @@ class PrimaryHits:
     #: the pixel's first hit is a surface (background pixels and proxy misses are False)
     valid: mi.Bool
     #: per pixel, why its hit came from a ray: 0 it did not, 1 an analytic shape's proxy,
-    #: 2 a silhouette or a raster miss (module docstring)
+    #: 2 a silhouette or a raster miss, 3 a hidden area emitter (module docstring)
     refined: mi.UInt32
 
 
@@ -111,6 +115,27 @@ def camera_rays(sensor: mi.Sensor, width: int, height: int, offset, differential
     sample = sensor.sample_ray_differential if differentials else sensor.sample_ray
     ray, _ = sample(0.0, 0.5, position, mi.Point2f(0.5, 0.5))
     return ray
+
+
+def first_hits(scene: mi.Scene, ray: mi.Ray3f, active: mi.Bool, hide_emitters: bool) -> mi.PreliminaryIntersection3f:
+    """The first hits of camera rays ``ray`` on the lanes of ``active``; with ``hide_emitters``,
+    the first hit that is not an area emitter, as Mitsuba's ``path`` finds it for its camera rays
+    (a ray spawned past each emitter it meets, ``SamplingIntegrator.skip_area_emitters``), with its
+    distance measured along the camera ray itself: Mitsuba's helper returns it from the last
+    emitter passed, and a surface interaction made against the camera ray from that distance
+    would misplace an analytic shape behind the emitter."""
+    pi = scene.ray_intersect_preliminary(ray, False, active)
+    if not hide_emitters:
+        return pi
+
+    def past(pi):
+        beyond = pi.compute_surface_interaction(ray, mi.RayFlags.Minimal).spawn_ray(ray.d)
+        found = scene.ray_intersect_preliminary(beyond, False)
+        found.t += dr.dot(beyond.o - ray.o, ray.d)
+        return (found,)
+
+    return dr.while_loop((pi,), lambda pi: pi.is_valid() & (pi.shape.emitter() != None), past,  # noqa: E711
+                         label="hidden emitters")[0]
 
 
 def shape_indices(table: mi.UInt32, shape: mi.ShapePtr, valid: mi.Bool) -> mi.UInt32:
@@ -308,12 +333,14 @@ class Intersections:
 
 
 def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                         tables: TriangleTables, outline: str = "silhouettes") -> tuple[Intersections, mi.UInt32]:
+                         tables: TriangleTables, outline: str = "silhouettes",
+                         hide_emitters: bool = False) -> tuple[Intersections, mi.UInt32]:
     """The raster's intersections for the camera rays ``ray`` of a ``width`` × ``height`` frame,
     with no ray traced, and per pixel why it is refined (``PrimaryHits.refined``): those pixels
     are left without a hit (``valid`` False), to be found by their camera rays. ``outline``
     (``ties`` or ``silhouettes``, :func:`resolve_outline`): which outline pixels are refined;
-    ``ties`` needs ``ray`` with its differentials (``camera_rays(..., differentials=True)``)."""
+    ``ties`` needs ``ray`` with its differentials (``camera_rays(..., differentials=True)``).
+    ``hide_emitters``: the pixels showing an area emitter are refined too (module docstring)."""
     if outline not in OUTLINES[1:]:
         raise ValueError(f"outline='{outline}' is not one of {list(OUTLINES[1:])}: resolve 'auto' first")
     if outline == "ties" and not isinstance(ray, mi.RayDifferential3f):
@@ -327,7 +354,8 @@ def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32,
         doubted = silhouettes(lambda index, active: _label(dr.gather(mi.UInt32, triangle_id, index, active), active, tables),
                               width, height)
     edge = (doubted | (record.hit & ~record.inside)) & ~proxy
-    raster_hit = record.hit & ~(proxy | edge)
+    hidden = record.hit & dr.gather(mi.Bool, tables.emitter, record.shape, record.hit) if hide_emitters else mi.Bool(False)
+    raster_hit = record.hit & ~(proxy | edge | hidden)
 
     pi = dr.zeros(mi.PreliminaryIntersection3f, dr.width(ray))
     pi.t = dr.select(raster_hit, record.t, dr.inf)
@@ -336,19 +364,19 @@ def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32,
     pi.shape_index = record.shape
     pi.shape = dr.gather(mi.ShapePtr, scene.shapes_dr(), record.shape, raster_hit)
     pi.valid = raster_hit
-    refined = mi.UInt32(dr.select(proxy, 1, dr.select(edge, 2, 0)))
+    refined = mi.UInt32(dr.select(hidden, 3, dr.select(proxy, 1, dr.select(edge, 2, 0))))
     return Intersections(pi=pi, shape=record.shape, object=record.object, valid=raster_hit), refined
 
 
 def raster_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                tables: TriangleTables, outline: str = "silhouettes") -> PrimaryHits:
+                tables: TriangleTables, outline: str = "silhouettes", hide_emitters: bool = False) -> PrimaryHits:
     """The raster's hits as Mitsuba surface interactions (:func:`raster_intersections`), the
     refined pixels without a hit, for :func:`resolved`. A kernel that traces rays costs the GPU
     its traversal's latency however few rays it traces (an H200 without RT cores: 0.21–0.60 ms
     for the 1–5 % refined pixels against 0.05–0.07 without them,
     ``docs/results/gpu/issue10/stop31``), so the device pass re-traces them inside its trace
     stage's launch, which traces anyway (``pipeline.device_pass``)."""
-    found, refined = raster_intersections(scene, ray, triangle_id, width, height, tables, outline)
+    found, refined = raster_intersections(scene, ray, triangle_id, width, height, tables, outline, hide_emitters)
     return found.hits(ray, refined)
 
 
@@ -359,20 +387,23 @@ def resolved(hits: PrimaryHits, pi: mi.PreliminaryIntersection3f, again: mi.Bool
 
 
 def primary_hits(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32, width: int, height: int,
-                 tables: TriangleTables, outline: str = "silhouettes") -> PrimaryHits:
+                 tables: TriangleTables, outline: str = "silhouettes", hide_emitters: bool = False) -> PrimaryHits:
     """Mitsuba's surface interactions at the raster's hits (module docstring) for the camera rays
     ``ray`` of a ``width`` × ``height`` frame, the refined pixels traced in the same kernel
-    (``ray_intersect_preliminary`` on their lanes alone), every pixel's interaction made from the
+    (:func:`first_hits` on their lanes alone), every pixel's interaction made from the
     merged preliminary intersections: one ``compute_surface_interaction``, whose virtual call over
     the shapes is the kernel's largest part."""
-    raster, refined = raster_intersections(scene, ray, triangle_id, width, height, tables, outline)
+    raster, refined = raster_intersections(scene, ray, triangle_id, width, height, tables, outline, hide_emitters)
     again = refined > 0
-    traced = Intersections.of(scene.ray_intersect_preliminary(ray, False, again), again, tables)
+    traced = Intersections.of(first_hits(scene, ray, again, hide_emitters), again, tables)
     return dr.select(again, traced, raster).hits(ray, refined)
 
 
-def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables) -> PrimaryHits:
-    """The pure ray-tracing baseline's primary hits (paper §8): Mitsuba's camera rays traced."""
+def traced_hits(scene: mi.Scene, ray: mi.Ray3f, tables: TriangleTables, hide_emitters: bool = False) -> PrimaryHits:
+    """The pure ray-tracing baseline's primary hits (paper §8): Mitsuba's camera rays traced
+    (past the area emitters with ``hide_emitters``, :func:`first_hits`)."""
+    if hide_emitters:
+        return Intersections.of(first_hits(scene, ray, mi.Bool(True), True), mi.Bool(True), tables).hits(ray, mi.UInt32(0))
     si = scene.ray_intersect(ray)
     valid = si.is_valid()
     shape, obj = _indices(si, valid, tables)

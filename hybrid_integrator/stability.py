@@ -254,6 +254,24 @@ def _analytic(kind: str, size: float) -> Callable[[], dict]:
     return build
 
 
+def hidden_emitter_scene(ball: str | None = None, res=(64, 48)) -> dict:
+    """An area-emitting sphere (the "lamp") in front of a floor (a mesh: Mitsuba's ``path`` with
+    ``hide_emitters`` misplaces an analytic shape behind a hidden emitter), a point light and a dim
+    sky; with ``ball`` ("analytic" or "mesh", a fine UV sphere), a small emitting panel in front of
+    a sphere as well. The scene of ``hide_emitters``' case, test and probe
+    (docs/results/gpu/issue10/stop65/hide_emitters.py)."""
+    shapes = {"floor": mesh([[-4, -1, -4], [4, -1, -4], [4, -1, 4], [-4, -1, 4]], [[0, 2, 1], [0, 3, 2]], diffuse()),
+              "lamp": _sphere(0.6, (-0.8, 0, 0), diffuse((0.7, 0.3, 0.2))) | {
+                  "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [3.0, 2.0, 1.0]}}}}
+    if ball is not None:
+        place = mi.ScalarTransform4f().translate([1.0, 0.0, 0.0]).scale(0.5)
+        shapes["ball"] = ({"type": "sphere", "to_world": place} if ball == "analytic" else
+                          {"type": "ply", "filename": str(sphere_mesh(200_000)), "to_world": place}) | {"bsdf": diffuse((0.2, 0.6, 0.3))}
+        shapes["panel"] = {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([1.0, 0.1, 1.5]).scale(0.3),
+                           "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [0.5, 0.5, 0.5]}}}
+    return scene(shapes, sensor(res=res))
+
+
 def _basic(extra_shapes=None, cam=None, lights=None) -> Callable[[], dict]:
     return lambda: scene({"floor": floor(), "ball": _sphere(0.8), **(extra_shapes or {})}, cam, lights)
 
@@ -433,6 +451,11 @@ def catalog() -> list[Case]:
     add(Case("emitters seen directly and in a mirror", "trace",
              lambda: scene({"floor": floor(), "mirror": _sphere(0.8, bsdf={"type": "conductor"}), **EMITTERS["area"]},
                            lights={}), "flip", 0.03, spp=16))
+    add(Case("hide_emitters: an area-emitting sphere seen directly", "trace", hidden_emitter_scene, "flip", 0.03,
+             props={"hide_emitters": True}, spp=16,
+             note="path's camera rays pass through area emitters (skip_area_emitters): the hybrid showed the sphere's "
+                  "surface lit but not emitting, now what lies behind it (primary.first_hits). The floor is a mesh: "
+                  "path misplaces an analytic shape behind a hidden emitter"))
     for name, lights in EMITTERS.items():
         add(Case(f"emitter: {name}", "trace", _basic(lights=lights), "flip", 0.03, spp=16))
     add(Case("emitter: envmap", "trace", _basic(lights={"l": {"type": "envmap", "filename": _envmap()}}), "flip", 0.03, spp=16))

@@ -76,6 +76,7 @@ class TriangleTables:
     object: mi.UInt32  # per triangle: index into the scene's objects
     first_triangle: mi.UInt32  # per shape
     proxy: mi.Bool  # per shape: an analytic shape drawn as a proxy
+    emitter: mi.Bool  # per shape: an area emitter (which ``hide_emitters`` hides from camera rays)
     pointer_shape: mi.UInt32  # shape pointer (registry id) → index into scene.shapes() (primary.shape_table)
 
     @classmethod
@@ -86,7 +87,8 @@ class TriangleTables:
         return cls(pointer_shape=shape_table(scene), vertices=mi.Float(geometry.positions.ravel()), faces=mi.UInt32(geometry.faces.ravel()),
                    shape=mi.UInt32(geometry.shape_of_triangles()), object=mi.UInt32(objects),
                    first_triangle=mi.UInt32(geometry.first_triangle[:-1].astype(np.uint32)),
-                   proxy=mi.Bool(geometry.proxy) if len(geometry.proxy) else mi.Bool(False))
+                   proxy=mi.Bool(geometry.proxy) if len(geometry.proxy) else mi.Bool(False),
+                   emitter=mi.Bool([shape.is_emitter() for shape in scene.shapes()] or [False]))
 
 
 class Rasterizer:
