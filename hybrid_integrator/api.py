@@ -6,7 +6,7 @@ import contextlib
 import mitsuba as mi
 import numpy as np
 
-from .cache import scene_state
+from .cache import forget, scene_state
 from .environment import require_jit_rgb_variant
 from .errors import HybridError
 from .objects import scene_objects
@@ -14,21 +14,34 @@ from .pipeline import HybridSettings
 from .primary import camera_rays, primary_hits, resolve_outline, visibility_buffer
 from .raster.camera import RasterCamera, camera_pose, place_sensor, resolve_sensor, transform_matrix
 from .raster.gbuffer import GBuffer, check_aovs, compute_aovs
+from .raster.geometry import geometry_key
 from .raster.visibility import Rasterizer, resolve_method
 
 def rasterizer(scene: mi.Scene) -> Rasterizer:
     """The :class:`Rasterizer` of ``scene``, made (and its geometry uploaded) on first use.
 
-    The few most recent scenes keep theirs. Geometry is read when the rasterizer is made: after
-    editing vertex positions through ``mi.traverse``, call :func:`forget` for that scene."""
-    return scene_state(scene, "rasterizer", lambda: Rasterizer(scene))
+    The few most recent scenes keep theirs. Geometry is read when the rasterizer is made; where
+    the scene's geometry has changed since (an edit through ``mi.traverse``: a mesh's vertices, a
+    shape's ``to_world``, ``raster.geometry.geometry_key``), everything kept for the scene is
+    dropped and made again (:func:`forget`: the geometry, the lights, the frozen device pass's
+    snapshot of its variables, what the frames learnt), counted in ``FrameStats.geometry_reloads``.
+    Until stop 65 the stale geometry was drawn: a sphere moved by 0.8 of its radius, 14 % mean
+    error against ``path``."""
+    raster = scene_state(scene, "rasterizer", lambda: Rasterizer(scene))
+    if raster.geometry_key != geometry_key(scene):
+        reloads = raster.reloads + 1
+        forget(scene)
+        raster = scene_state(scene, "rasterizer", lambda: Rasterizer(scene, reloads))
+    return raster
 
 
 def renderer(scene: mi.Scene):
-    """The hybrid renderer of ``scene`` (its rasterizer plus its lights), made on first use."""
+    """The hybrid renderer of ``scene`` (its rasterizer plus its lights), made on first use (and
+    again after an edit of its geometry: :func:`rasterizer`)."""
     from .pipeline import HybridRenderer
 
-    return scene_state(scene, "renderer", lambda: HybridRenderer(scene, rasterizer(scene)))
+    raster = rasterizer(scene)
+    return scene_state(scene, "renderer", lambda: HybridRenderer(scene, raster))
 
 
 def rasterize(scene: mi.Scene, sensor: int | mi.Sensor = 0, offset: tuple[float, float] = (0.5, 0.5),

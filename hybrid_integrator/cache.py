@@ -2,9 +2,10 @@
 material constants) and files on disk (ground truths, generated meshes).
 
 Mitsuba scenes cannot be weakly referenced, so the few most recently used scenes keep theirs
-(strong references, least recently used dropped first). After editing a scene's geometry or
-materials through ``mi.traverse``, call :func:`forget` for it (its frozen device pass replays
-with a snapshot of its variables: ``frozen.py``). A scene kept alive here can cost the other
+(strong references, least recently used dropped first). An edit of a scene's geometry through
+``mi.traverse`` is found at the next frame and its state made again (``api.rasterizer``); after
+editing anything else through it (materials, lights), call :func:`forget` for the scene (its
+frozen device pass replays with a snapshot of its variables: ``frozen.py``). A scene kept alive here can cost the other
 scenes' frames too: a scene's snapshot holds the variables of every shape alive when it is taken
 (Dr.Jit records a virtual call for every registered instance), so scenes loaded earlier lengthen
 its replays and scenes loaded later do not (``docs/results/cpu/cached_scenes``); :func:`forget` a

@@ -24,8 +24,9 @@ none.)
 
 The handles are a snapshot. They keep the variables they were taken from, so an edit of the scene
 through ``mi.traverse`` (which gives the edited objects new variables) is not seen by a replay:
-after editing anything but the sensor, which stays a real input, call ``hi.forget(scene)`` (as
-for the raster's geometry and the lights' table). An instance registered after the snapshot (a
+after editing anything but the sensor, which stays a real input, or the geometry, whose edits
+``api.rasterizer`` finds (and drops the snapshot with the rest of the scene's state), call
+``hi.forget(scene)``. An instance registered after the snapshot (a
 scene loaded later in the same process) is missing from it when a function records again; Dr.Jit
 says so, and the variables are taken again once. Where the snapshot cannot serve (an
 AD-attached scene variable, a Python plugin with Dr.Jit members outside Mitsuba's traversal, a

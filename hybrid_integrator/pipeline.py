@@ -303,6 +303,8 @@ class FrameStats:
     proxy_refinements: int = 0  # pixel-samples of analytic-shape proxies refined by a ray
     edge_refinements: int = 0  # silhouette pixel-samples and raster misses re-traced (primary.py)
     emitter_refinements: int = 0  # pixel-samples of area emitters re-traced past them (hide_emitters, primary.py)
+    #: times the scene's state was made again because its geometry was edited (api.rasterizer)
+    geometry_reloads: int = 0
     lights_left_out: tuple[str, ...] = ()  # emitters the raster layer cannot show
     readback: str = ""  # how the raster target reached Dr.Jit: cuda-gl-interop, or host (reason)
     #: sample passes whose visibility buffer the frame before drew (``raster_ahead``), and passes
@@ -1309,6 +1311,7 @@ class HybridRenderer:
         the number of passes, when the cost model learns from this frame (else ``None``)."""
         stats = frame.stats
         learnt = None
+        stats.geometry_reloads = self.raster.reloads
         if settings.primary == "raster":
             stats.readback = self.raster.readback
             stats.raster_method = resolve_method(settings.raster)

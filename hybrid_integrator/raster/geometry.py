@@ -69,6 +69,16 @@ class SceneGeometry:
         return np.repeat(np.arange(len(self.proxy), dtype=np.uint32), self.triangles_per_shape)
 
 
+def geometry_key(scene: mi.Scene) -> tuple:
+    """What the raster's geometry is read from, per shape of ``scene.shapes()``: a mesh's
+    vertex-buffer variable and vertex count (an edit through ``mi.traverse`` gives the buffer a new
+    variable), another shape's bounding box (which moving, scaling or resizing it changes; its
+    proxy is placed from it or from its ``to_world``). Cheap enough to compare at every frame
+    (~2 µs for the dining room's 18 shapes): ``api.rasterizer`` re-reads the scene when it changes."""
+    return tuple((shape.vertex_positions_buffer().index, shape.vertex_count()) if shape.is_mesh()
+                 else (tuple(shape.bbox().min), tuple(shape.bbox().max)) for shape in scene.shapes())
+
+
 def scene_geometry(scene: mi.Scene) -> SceneGeometry:
     """The :class:`SceneGeometry` of ``scene.shapes()``, in that order. Raises
     :class:`UnsupportedSceneError` for shape types that have neither triangles nor a proxy, and for

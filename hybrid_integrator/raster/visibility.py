@@ -29,7 +29,7 @@ from ..objects import object_of_triangles, scene_objects
 from .camera import RasterCamera
 from .compute import ComputeVisibility
 from .context import depth_precision, gl_context, max_target_side, shader_source
-from .geometry import SceneGeometry, scene_geometry
+from .geometry import SceneGeometry, geometry_key, scene_geometry
 from .interop import Readback
 
 
@@ -97,8 +97,11 @@ class Rasterizer:
     The scene's geometry is uploaded once, when the rasterizer is made; every :meth:`render` reuses
     it. Render targets are made per film size and kept."""
 
-    def __init__(self, scene: mi.Scene):
+    def __init__(self, scene: mi.Scene, reloads: int = 0):
         self.ctx = gl_context()
+        #: what the geometry was read from (``geometry.geometry_key``), and how many times before
+        #: the scene's state was re-made for an edit of it (``api.rasterizer``)
+        self.geometry_key, self.reloads = geometry_key(scene), reloads
         self.geometry = scene_geometry(scene).renumbered()  # vertices in the order the draw fetches them
         self.tables = TriangleTables.of(scene, self.geometry)
         self.program = self.ctx.program(vertex_shader=shader_source("visibility.vert"),
