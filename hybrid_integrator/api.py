@@ -25,8 +25,8 @@ def rasterizer(scene: mi.Scene) -> Rasterizer:
     shape's ``to_world``, ``raster.geometry.geometry_key``), everything kept for the scene is
     dropped and made again (:func:`forget`: the geometry, the lights, the frozen device pass's
     snapshot of its variables, what the frames learnt), counted in ``FrameStats.geometry_reloads``.
-    Until stop 65 the stale geometry was drawn: a sphere moved by 0.8 of its radius, 14 % mean
-    error against ``path``."""
+    Until stop 65 the stale geometry was drawn: a sphere moved by its radius, 14 % mean error
+    against ``path`` (docs/results/gpu/issue10/stop65/traverse_edits.py)."""
     raster = scene_state(scene, "rasterizer", lambda: Rasterizer(scene))
     if raster.geometry_key != geometry_key(scene):
         reloads = raster.reloads + 1

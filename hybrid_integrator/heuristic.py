@@ -312,7 +312,7 @@ def rows_of(table: np.ndarray, keys: np.ndarray) -> np.ndarray:
 
 
 def by_kind(table: np.ndarray) -> np.ndarray:
-    """The sum over the rows of a (rows × KINDS) table, per kind, as a matrix product: the plan
+    """The sum over the rows of a (rows × kinds) table, per kind, as a matrix product: the plan
     makes a few such sums over thousands of rows each frame, and numpy's ``sum(axis=0)`` (and
     ``any(axis=1)``) over a table four columns wide costs ~20 µs at 2 000 rows, a product ~3."""
     return np.ones(len(table)) @ table

@@ -254,7 +254,7 @@ def _analytic(kind: str, size: float) -> Callable[[], dict]:
     return build
 
 
-def hidden_emitter_scene(ball: str | None = None, res=(64, 48)) -> dict:
+def hidden_emitter_scene(ball: str | None = None) -> dict:
     """An area-emitting sphere (the "lamp") in front of a floor (a mesh: Mitsuba's ``path`` with
     ``hide_emitters`` misplaces an analytic shape behind a hidden emitter), a point light and a dim
     sky; with ``ball`` ("analytic" or "mesh", a fine UV sphere), a small emitting panel in front of
@@ -269,7 +269,7 @@ def hidden_emitter_scene(ball: str | None = None, res=(64, 48)) -> dict:
                           {"type": "ply", "filename": str(sphere_mesh(200_000)), "to_world": place}) | {"bsdf": diffuse((0.2, 0.6, 0.3))}
         shapes["panel"] = {"type": "rectangle", "to_world": mi.ScalarTransform4f().translate([1.0, 0.1, 1.5]).scale(0.3),
                            "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [0.5, 0.5, 0.5]}}}
-    return scene(shapes, sensor(res=res))
+    return scene(shapes, sensor(res=(64, 48)))
 
 
 def _basic(extra_shapes=None, cam=None, lights=None) -> Callable[[], dict]:

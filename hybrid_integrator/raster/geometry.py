@@ -74,7 +74,9 @@ def geometry_key(scene: mi.Scene) -> tuple:
     vertex-buffer variable and vertex count (an edit through ``mi.traverse`` gives the buffer a new
     variable), another shape's bounding box (which moving, scaling or resizing it changes; its
     proxy is placed from it or from its ``to_world``). Cheap enough to compare at every frame
-    (~2 µs for the dining room's 18 shapes): ``api.rasterizer`` re-reads the scene when it changes."""
+    (~3 µs for the dining room's 18 shapes on a CPU of the CI machine,
+    docs/results/gpu/issue10/stop65/traverse_edits.py): ``api.rasterizer`` re-reads the scene when
+    it changes."""
     return tuple((shape.vertex_positions_buffer().index, shape.vertex_count()) if shape.is_mesh()
                  else (tuple(shape.bbox().min), tuple(shape.bbox().max)) for shape in scene.shapes())
 

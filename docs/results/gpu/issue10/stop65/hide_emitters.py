@@ -8,8 +8,9 @@ means, the hidden-emitter refinements. Then the panel scene, the ball behind it 
 mesh: over the pixels where the panel is the first hit, the mean of ``path`` and of the hybrid
 (``path`` measures the hit past the panel from the panel, and makes its surface interaction
 against the camera ray: on the analytic ball that misplaces it).
-``time`` (a bench scene): its default frame with ``hide_emitters`` off and on, 20 warm frames
-after 5 each, one synchronization per frame, ``stage_times=false``, one setting after the other.
+``time`` (a bench scene): its default frame with ``hide_emitters`` off and on, in turn
+(``bench.frames_in_turn``: 20 measured frames each after 5 rounds of warm-up, one synchronization
+per frame, ``stage_times=false``), the median frames and the paired ratio on / off.
 
     python3 docs/results/gpu/issue10/stop65/hide_emitters.py check [--variant cuda_ad_rgb]
     python3 docs/results/gpu/issue10/stop65/hide_emitters.py time scenes/showcase.xml -D showcase_dir=... [--variant ...]
@@ -20,7 +21,6 @@ import argparse
 import json
 import statistics
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[5]))
@@ -56,23 +56,17 @@ def check(out: dict) -> None:
 
 
 def timing(out: dict, scene_path: Path, defines: dict, frames: int) -> None:
-    import drjit as dr
-
     import hybrid_integrator as hi
+    from hybrid_integrator.bench import frames_in_turn, paired_ratio
 
     scene = hi.load_scene(scene_path, **defines)
-    for hide in (False, True):
-        integrator = hi.api._integrator({"stage_times": False, "hide_emitters": hide})
-        times = []
-        for k in range(frames + 5):
-            dr.sync_thread()
-            start = time.perf_counter()
-            result = integrator.render_result(scene, seed=k, spp=1, layers=False)
-            dr.eval(result.image)
-            dr.sync_thread()
-            if k >= 5:
-                times.append((time.perf_counter() - start) * 1e3)
-        out[f"hide_emitters={hide}"] = {"frame_ms": statistics.median(times), "emitter_refinements": result.stats.emitter_refinements}
+    refinements = {}
+    sides = {f"hide_emitters={hide}": {"stage_times": False, "hide_emitters": hide} for hide in (False, True)}
+    times = frames_in_turn(scene, sides, frames, spp=1, seed=0, warmup=5,
+                           after=lambda name, at, result: refinements.__setitem__(name, result.stats.emitter_refinements))
+    for name, entries in times.items():
+        out[name] = {"frame_ms": statistics.median(t["total"] for t in entries), "emitter_refinements": refinements[name]}
+    out["paired on / off"] = paired_ratio(times, "hide_emitters=True", "hide_emitters=False")
 
 
 def main() -> int:

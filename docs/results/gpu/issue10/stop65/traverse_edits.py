@@ -2,7 +2,9 @@
 64×48, the hybrid at 64 spp without the denoiser, ``path`` at 256): a 5 000-triangle mesh's
 vertices moved, an analytic sphere moved by its ``to_world``, the floor raised, a point light ×3,
 a reflectance ×0.2. Per edit, the mean absolute error of the frame after it against ``path``
-after it, over path's mean, and of the same frame after ``hi.forget(scene)`` (the noise).
+after it, over path's mean, and of the same frame after ``hi.forget(scene)`` (the noise). Then
+what the check that finds geometry edits costs a frame: ``raster.geometry.geometry_key`` of the
+dining room (18 shapes once batched), where ../shared/scenes holds it.
 
     .venv/bin/python docs/results/gpu/issue10/stop65/traverse_edits.py
     # before: a copy of this file run in a checkout of 0f468d3 (it imports the package beside it)
@@ -55,3 +57,13 @@ for name, (mesh, edit) in EDITS.items():
     error = lambda image: float(np.abs(image - truth).mean() / truth.mean())  # noqa: E731
     print(f"{name}: error {error(np.array(after.image)[..., :3]):.3f}, after forget {error(forgotten):.3f}, "
           f"geometry_reloads {getattr(after.stats, 'geometry_reloads', '(none before stop 65)')}")
+
+dining = Path(__file__).resolve().parents[5].parent / "shared/scenes/dining-room"
+if dining.is_dir():
+    import timeit
+
+    from hybrid_integrator.raster.geometry import geometry_key
+
+    room = hi.load_scene(Path(__file__).resolve().parents[5] / "scenes/dining_room.xml", dining_dir=str(dining), resx=64, resy=36)
+    seconds = timeit.timeit(lambda: geometry_key(room), number=1000) / 1000
+    print(f"geometry_key of the dining room ({len(room.shapes())} shapes): {seconds * 1e6:.1f} µs")
