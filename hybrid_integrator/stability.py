@@ -313,8 +313,12 @@ def _bsdfs() -> dict[str, object]:
         "twosided": {"type": "twosided", "material": diffuse((0.7, 0.4, 0.2))},
         "blend": {"type": "blendbsdf", "weight": 0.5, "bsdf_0": diffuse((0.7, 0.2, 0.2)), "bsdf_1": {"type": "conductor"}},
         "mask": {"type": "mask", "opacity": 0.5, "material": diffuse((0.2, 0.7, 0.2))},
+        "mask (textured opacity)": {"type": "mask", "material": diffuse((0.2, 0.7, 0.2)),
+                                    "opacity": {"type": "checkerboard", "to_uv": mi.ScalarTransform4f().scale(4)}},
         "bump": lambda: {"type": "bumpmap", "arbitrary": {"type": "bitmap", "filename": _texture("bumps"), "raw": True},
                          "scale": 0.5, "bsdf": diffuse((0.6, 0.6, 0.6))},
+        "normalmap": lambda: {"type": "normalmap", "normalmap": {"type": "bitmap", "filename": _normal_map(), "raw": True},
+                              "bsdf": diffuse((0.6, 0.6, 0.6))},
         "textured": {"type": "diffuse", "reflectance": {"type": "checkerboard", "to_uv": mi.ScalarTransform4f().scale(6)}},
         "roughconductor": {"type": "roughconductor", "alpha": 0.2},
         "plastic": {"type": "plastic", "diffuse_reflectance": {"type": "rgb", "value": [0.2, 0.3, 0.8]}},
@@ -387,6 +391,9 @@ def catalog() -> list[Case]:
     add(Case("depth range 1e-3 … 1e5", "raster",
              lambda: scene({"near": _sphere(0.002, (0.0, 0.0, 3.99)), "far": _sphere(2e4, (0, 0, -9e4)), "floor": floor()},
                            sensor(origin=(0, 0, 4), near_clip=1e-3, far_clip=1e5)), "agree", 0.97))
+    add(Case("far clip inside the scene", "raster", _basic(cam=sensor(far_clip=4.2)), "agree", 0.98,
+             note="the far plane cuts the floor and the sphere's back: Mitsuba's camera rays end there (maxt), "
+                  "the raster clips there"))
     add(Case("zero-area triangles", "raster", _triangles(TETRA_V + [[0, 0, 0]], TETRA_F + [[4, 4, 4], [0, 0, 1]]), "agree", 0.98))
     add(Case("duplicate vertices", "raster", _triangles(TETRA_V + TETRA_V, TETRA_F + [[f + 4 for f in t] for t in TETRA_F]),
              "agree", 0.97))
@@ -500,26 +507,31 @@ def catalog() -> list[Case]:
     return cases
 
 
-def _texture(name: str) -> str:
-    """A small noise texture (EXR in the temporary directory, made once): bump heights."""
+def _exr(name: str, make: Callable[[], np.ndarray]) -> str:
+    """An EXR of ``make()``'s image in the temporary directory, made once per name."""
     import tempfile
     from pathlib import Path
 
     path = Path(tempfile.gettempdir()) / f"hybrid_stability_{name}.exr"
     if not path.is_file():
-        image = np.random.default_rng(0).random((64, 64, 1)).astype(np.float32)
-        mi.Bitmap(image).write(str(path))
+        mi.Bitmap(np.ascontiguousarray(make().astype(np.float32))).write(str(path))
     return str(path)
+
+
+def _texture(name: str) -> str:
+    """A small noise texture: bump heights."""
+    return _exr(name, lambda: np.random.default_rng(0).random((64, 64, 1)))
+
+
+def _normal_map() -> str:
+    """A small noise normal map (tangent-space unit normals tilted up to ~40°, stored as (n + 1) / 2)."""
+    def make():
+        n = np.random.default_rng(1).normal(size=(64, 64, 3)) * [0.4, 0.4, 0.0] + [0.0, 0.0, 1.0]
+        return (n / np.linalg.norm(n, axis=-1, keepdims=True) + 1.0) / 2.0
+    return _exr("normals", make)
 
 
 def _envmap() -> str:
-    """A small gradient environment map (EXR in the temporary directory, made once)."""
-    import tempfile
-    from pathlib import Path
-
-    path = Path(tempfile.gettempdir()) / "hybrid_stability_envmap.exr"
-    if not path.is_file():
-        y = np.linspace(1.0, 0.1, 16)[:, None, None]
-        image = np.broadcast_to(y * np.array([0.6, 0.8, 1.0]), (16, 32, 3)).astype(np.float32)
-        mi.Bitmap(np.ascontiguousarray(image)).write(str(path))
-    return str(path)
+    """A small gradient environment map."""
+    y = np.linspace(1.0, 0.1, 16)[:, None, None]
+    return _exr("envmap", lambda: np.broadcast_to(y * np.array([0.6, 0.8, 1.0]), (16, 32, 3)))
