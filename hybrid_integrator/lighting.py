@@ -40,6 +40,7 @@ import mitsuba as mi
 import numpy as np
 
 from .raster.camera import transform_matrix
+from .raster.interop import device_array
 
 AREA_SAMPLES = 16
 AMBIENT_DIRECTIONS = 256
@@ -150,9 +151,12 @@ class DeferredLighting:
 
     def __init__(self, scene: mi.Scene):
         self.lights = scene_lights(scene)
-        # at least one (unused) light: an empty Dr.Jit array cannot be an input of a frozen function
+        # at least one (unused) light: an empty Dr.Jit array cannot be an input of a frozen function.
+        # Aligned rows (device_array): mapped where NumPy happened to put them, the LLVM backend
+        # read a row in 4 scalar gathers instead of one packet gather in some processes, and the
+        # lighting kernel took 6.4 ms instead of 3.4 (showcase, 320×180; stop 66)
         rows = self.lights.table if self.lights.count else np.zeros((3, 1, 4), dtype=np.float32)
-        self.table = LightTable(rows=[mi.Float(rows[r].ravel()) for r in range(3)],
+        self.table = LightTable(rows=[device_array(mi.Float, rows[r].ravel()) for r in range(3)],
                                 ambient=mi.Color3f(*(float(c) for c in self.lights.ambient)), count=self.lights.count)
 
 
