@@ -154,7 +154,8 @@ class DeferredLighting:
         # at least one (unused) light: an empty Dr.Jit array cannot be an input of a frozen function.
         # Aligned rows (device_array): mapped where NumPy happened to put them, the LLVM backend
         # read a row in 4 scalar gathers instead of one packet gather in some processes, and the
-        # lighting kernel took 6.4 ms instead of 3.4 (showcase, 320×180; stop 66)
+        # lighting stage took 5.24-5.55 ms instead of 3.37-3.45 (showcase, 320×180;
+        # docs/results/gpu/issue10/stop66/README.md, section 4)
         rows = self.lights.table if self.lights.count else np.zeros((3, 1, 4), dtype=np.float32)
         self.table = LightTable(rows=[device_array(mi.Float, rows[r].ravel()) for r in range(3)],
                                 ambient=mi.Color3f(*(float(c) for c in self.lights.ambient)), count=self.lights.count)
