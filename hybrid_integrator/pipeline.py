@@ -1278,7 +1278,7 @@ class HybridRenderer:
         data = PassData(triangle_id=triangle_id, camera=device_array(mi.Float, np.r_[offset, camera.eye].astype(np.float32)),
                         seed=device_array(mi.UInt32, np.array([sample, int(seed) & 0xFFFFFFFF], dtype=np.uint32)),
                         config=config,
-                        tables=self.raster.pass_tables(self.scene, frame.static.hide_emitters), lights=self.lighting.table, constants=self.constants,
+                        tables=self.raster.tables, lights=self.lighting.table, constants=self.constants,
                         ambient=frame.ambient, indirect=frame.indirect)
         # Mitsuba 3.9's orthographic sensor holds a Dr.Jit variable its traversal does not expose,
         # which a frozen function cannot capture ("created before recording was started"): its

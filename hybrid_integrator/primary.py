@@ -340,8 +340,7 @@ def raster_intersections(scene: mi.Scene, ray: mi.Ray3f, triangle_id: mi.UInt32,
     are left without a hit (``valid`` False), to be found by their camera rays. ``outline``
     (``ties`` or ``silhouettes``, :func:`resolve_outline`): which outline pixels are refined;
     ``ties`` needs ``ray`` with its differentials (``camera_rays(..., differentials=True)``).
-    ``hide_emitters``: the pixels showing an area emitter are refined too (module docstring); it
-    reads ``tables.emitter``, which only the tables of ``Rasterizer.pass_tables(scene, True)`` hold."""
+    ``hide_emitters``: the pixels showing an area emitter are refined too (module docstring)."""
     if outline not in OUTLINES[1:]:
         raise ValueError(f"outline='{outline}' is not one of {list(OUTLINES[1:])}: resolve 'auto' first")
     if outline == "ties" and not isinstance(ray, mi.RayDifferential3f):

@@ -18,7 +18,6 @@ the GPU's fixed-function rasterizer is the slow part (``RASTER_METHODS``).
 """
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import mitsuba as mi
@@ -77,9 +76,7 @@ class TriangleTables:
     object: mi.UInt32  # per triangle: index into the scene's objects
     first_triangle: mi.UInt32  # per shape
     proxy: mi.Bool  # per shape: an analytic shape drawn as a proxy
-    #: per shape: an area emitter (which ``hide_emitters`` hides from camera rays); a literal False
-    #: in the tables of a pass that does not hide them (:meth:`Rasterizer.pass_tables`)
-    emitter: mi.Bool
+    emitter: mi.Bool  # per shape: an area emitter (which ``hide_emitters`` hides from camera rays)
     pointer_shape: mi.UInt32  # shape pointer (registry id) → index into scene.shapes() (primary.shape_table)
 
     @classmethod
@@ -91,11 +88,7 @@ class TriangleTables:
                    shape=mi.UInt32(geometry.shape_of_triangles()), object=mi.UInt32(objects),
                    first_triangle=mi.UInt32(geometry.first_triangle[:-1].astype(np.uint32)),
                    proxy=mi.Bool(geometry.proxy) if len(geometry.proxy) else mi.Bool(False),
-                   emitter=mi.Bool(False))
-
-    def hiding_emitters(self, scene: mi.Scene) -> "TriangleTables":
-        """These tables with ``emitter`` filled in from ``scene``'s shapes."""
-        return dataclasses.replace(self, emitter=mi.Bool([shape.is_emitter() for shape in scene.shapes()] or [False]))
+                   emitter=mi.Bool([shape.is_emitter() for shape in scene.shapes()] or [False]))
 
 
 class Rasterizer:
@@ -111,7 +104,6 @@ class Rasterizer:
         self.geometry_key, self.reloads = geometry_key(scene), reloads
         self.geometry = scene_geometry(scene).renumbered()  # vertices in the order the draw fetches them
         self.tables = TriangleTables.of(scene, self.geometry)
-        self._hiding: TriangleTables | None = None  # the tables with the emitters (``pass_tables``)
         self.program = self.ctx.program(vertex_shader=shader_source("visibility.vert"),
                                         fragment_shader=shader_source("visibility.frag"))
         #: the scene's vertices (3 float32 each) and triangles (3 uint32 each), uploaded once; the
@@ -133,19 +125,6 @@ class Rasterizer:
         #: meshes may be open), or moderngl's "front" / "back" (``scripts/raster_cull_probe.py``
         #: measures what that saves)
         self.cull: str | None = None
-
-    def pass_tables(self, scene: mi.Scene, hide_emitters: bool) -> TriangleTables:
-        """The tables a device pass takes: with the per-shape ``emitter`` table only for a pass
-        that hides emitters, which alone reads it (made on first use). Stop 65 passed the table to
-        every pass; unread, it still slowed the showcase's trace kernel (the same kernel, by its
-        hash) from 4.73-4.77 to 4.93-5.03 ms on the H100 in 3 processes of 3, while tables with the
-        literal took the faster time in 3 of 3 (stop 66, docs/results/gpu/issue10/stop66/trace_mode.sh;
-        a difference of where the arrays lie, not of what the kernel does)."""
-        if not hide_emitters:
-            return self.tables
-        if self._hiding is None:
-            self._hiding = self.tables.hiding_emitters(scene)
-        return self._hiding
 
     def target(self, width: int, height: int) -> moderngl.Framebuffer:
         """The target of one film size: the triangle numbers (R32UI) on a 32-bit float depth buffer;
