@@ -31,7 +31,12 @@ scene loaded later in the same process) is missing from it when a function recor
 says so, and the variables are taken again once. Where the snapshot cannot serve (an
 AD-attached scene variable, a Python plugin with Dr.Jit members outside Mitsuba's traversal, a
 second failure), the functions take the scene itself and Dr.Jit walks it on every call: counted
-in ``FrameStats.frozen_inputs`` as ``scene``.
+in ``FrameStats.frozen_inputs`` as ``scene``. Where Dr.Jit cannot record the function given the
+scene either, the functions run unfrozen from then on, counted as ``unfrozen``: Dr.Jit 1.5 refuses
+any recording whose virtual call meets a BSDF registered outside the scene (``mi.load_dict`` of a
+lone BSDF, before or after the scene: "traversal was skipped because no such object instance was
+found in the function's inputs"; a frozen ``mi.render`` of Mitsuba 3.9.1's ``path`` fails the
+same way; docs/results/gpu/issue10/stop67).
 
 Most of the snapshot is not read by a given function: the trace call of ``scripts/trace_overhead.py``
 reads 121 of the 226-object scene's 267 variables, and the walk of a variable costs as much
@@ -175,11 +180,14 @@ class FrozenScene:
         self.variables: SceneVariables | None = None
         self.taken = 0  # snapshots taken (a second one: an instance registered since the first)
         self.whole = False  # the snapshot cannot serve: every function takes the scene itself
+        #: what Dr.Jit said when it could not record a function given the scene itself either ("":
+        #: never): from then on every function of the scene runs unfrozen
+        self.unfrozen = ""
 
     @property
     def inputs(self) -> str:
-        """What the functions take for the scene now: ``variables`` or ``scene``."""
-        return "scene" if self.whole else "variables"
+        """What the functions take for the scene now: ``variables``, ``scene`` or ``unfrozen``."""
+        return "unfrozen" if self.unfrozen else "scene" if self.whole else "variables"
 
     def freeze(self, fn) -> "FrozenFunction":
         """``fn(scene, *args)`` frozen, called as ``frozen(*args)`` (:class:`FrozenFunction`)."""
@@ -212,7 +220,7 @@ class FrozenFunction:
     def __init__(self, owner: FrozenScene, fn):
         bound = _Bound(owner.scene, fn)
         self.owner = owner
-        self.by_snapshot, self.by_scene = dr.freeze(bound.snapshot), dr.freeze(bound.whole)
+        self.by_snapshot, self.by_scene, self.plain = dr.freeze(bound.snapshot), dr.freeze(bound.whole), bound.whole
         #: the snapshot the read set was learnt from, and the set (None: not learnt, or not usable)
         self._learnt: SceneVariables | None = None
         self.read: tuple | None = None
@@ -220,7 +228,10 @@ class FrozenFunction:
 
     @property
     def inputs(self) -> str:
-        """What the function takes for the scene now: ``read set``, ``variables`` or ``scene``."""
+        """What the function takes for the scene now: ``read set``, ``variables``, ``scene`` or
+        ``unfrozen`` (:attr:`FrozenScene.unfrozen`)."""
+        if self.owner.unfrozen:
+            return "unfrozen"
         if self.owner.whole:
             return "scene"
         return "read set" if self.read is not None and self._learnt is self.owner.variables else "variables"
@@ -246,8 +257,15 @@ class FrozenFunction:
                 if not _missing_input(error):
                     raise
             self.owner.missed()
-        with _collection_paused():
-            return self.by_scene(self.owner.scene, *args)
+        if not self.owner.unfrozen:
+            try:
+                with _collection_paused():
+                    return self.by_scene(self.owner.scene, *args)
+            except RuntimeError as error:
+                if not _missing_input(error):
+                    raise
+                self.owner.unfrozen = str(error.__cause__ or error)[:300]
+        return self.plain(self.owner.scene, *args)
 
     @property
     def n_recordings(self) -> int:

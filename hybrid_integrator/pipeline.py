@@ -318,7 +318,9 @@ class FrameStats:
     #: the snapshot its recording reads; ``variables``, the whole snapshot of the scene's Dr.Jit
     #: variables taken once (the pass's first call, which learns the read set, and where a later
     #: recording read beyond it); ``scene``, the scene itself, walked by Dr.Jit on every call (where
-    #: the snapshot cannot serve); "": the pass ran unfrozen
+    #: the snapshot cannot serve); ``unfrozen``: asked to freeze, the pass runs unfrozen because
+    #: Dr.Jit cannot record it even given the scene (a BSDF registered outside the scene); "": the
+    #: pass ran unfrozen as asked (``freeze=False``, an orthographic sensor)
     frozen_inputs: str = ""
     budget_ms: float = 0.0  # 0: unlimited
     predicted_trace_ms: float = 0.0  # what the cost model expected the trace stage to take
