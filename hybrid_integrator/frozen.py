@@ -230,10 +230,8 @@ class FrozenFunction:
     def inputs(self) -> str:
         """What the function takes for the scene now: ``read set``, ``variables``, ``scene`` or
         ``unfrozen`` (:attr:`FrozenScene.unfrozen`)."""
-        if self.owner.unfrozen:
-            return "unfrozen"
-        if self.owner.whole:
-            return "scene"
+        if self.owner.inputs != "variables":
+            return self.owner.inputs
         return "read set" if self.read is not None and self._learnt is self.owner.variables else "variables"
 
     def __call__(self, *args):
