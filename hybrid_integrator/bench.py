@@ -83,6 +83,7 @@ import numpy as np
 
 from .compare import ground_truth, render_path, require_srgb, timed_path, timed_path_denoised
 from .errors import HybridError, require_counts, require_fractions
+from .frozen import require_frozen
 from .metrics import errors_in_parallel
 from .pipeline import HybridSettings, resolve_refine
 from .primary import resolve_outline
@@ -433,6 +434,8 @@ def bench_scene(spec: str, params: dict | None = None, frames: int = 5, spp: int
         raw = not props.get("denoise", True) and not extra.get("temporal")
         images.append([r.image for r in results[-error_frames(frame_spp or spp, raw):]])
         stats = [r.stats for r in results]
+        for s in stats:
+            require_frozen(s.frozen_inputs, f"bench: {method}")
         row = Measurement(method, kind, statistics.median(s.times_ms["total"] for s in stats),
                           [s.times_ms["total"] for s in stats], nan, nan, nan, frame_spp or spp,
                           {k: statistics.median(s.times_ms[k] for s in profiled) for k in profiled[0].times_ms}

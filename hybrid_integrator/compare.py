@@ -104,10 +104,11 @@ def path_renders(scene: mi.Scene, sensor: mi.Sensor, integrators: list, spp: int
 
     if not frozen:
         return lambda seed: render(scene, sensor, seed)
-    from .frozen import FrozenScene
+    from .frozen import FrozenScene, require_frozen
 
     replay = FrozenScene(scene).freeze(render)
     replay(sensor, dr.opaque(mi.UInt32, 0))  # the recording (any seed: the same kernels)
+    require_frozen(replay.inputs, "frozen path")
     return lambda seed: replay(sensor, dr.opaque(mi.UInt32, seed))
 
 

@@ -65,6 +65,8 @@ from dataclasses import dataclass
 import drjit as dr
 import mitsuba as mi
 
+from .errors import HybridError
+
 #: what Dr.Jit's recording says when one of its inputs is missing: a variable read but not found
 #: among them, or a virtual call over instances whose members none of them holds
 _MISSING = ("not specified as an input variable", "traversal was skipped")
@@ -210,6 +212,18 @@ class FrozenScene:
         """A recording missed an input of the snapshot: the first time, take it again (an
         instance registered since); the second, give up on it."""
         self.variables, self.whole = None, self.taken > 1
+
+
+def require_frozen(inputs: str, what: str) -> None:
+    """A benchmark's check that ``what``, timed as a frozen replay, was one: a
+    :class:`HybridError` where its frozen functions fell back to running unfrozen (``inputs``:
+    ``FrameStats.frozen_inputs`` or :attr:`FrozenFunction.inputs`), whose times would be reported
+    under the frozen frame's name."""
+    if inputs == "unfrozen":
+        raise HybridError(f"{what}: Dr.Jit could not record its frozen replay in this process (a BSDF "
+                          "registered outside the scene, e.g. made with mi.load_dict, is met by its "
+                          "virtual calls), so it would be timed unfrozen; delete such BSDFs before "
+                          "loading the scene, or time it with freeze=False")
 
 
 class FrozenFunction:
