@@ -166,8 +166,8 @@ def test_a_bsdf_outside_the_scene_runs_the_pass_unfrozen():
     """Dr.Jit 1.5 cannot record a virtual call that meets a BSDF registered outside the scene (a
     frozen ``mi.render`` of Mitsuba's ``path`` fails on it too): the frame's pass runs unfrozen,
     counted as ``unfrozen``, and renders what ``freeze=False`` renders; a benchmark says so instead
-    of timing it as frozen; once that BSDF is deleted, a scene's pass freezes again. In a fresh process: the lone BSDF would be in every later
-    recording of this one."""
+    of timing it as frozen; once that BSDF is deleted, a scene's pass freezes again. In a fresh
+    process: the lone BSDF would be in every later recording of this one."""
     code = ("import numpy as np, mitsuba as mi; mi.set_variant('llvm_ad_rgb')\n"
             "import hybrid_integrator as hi\n"
             "lone = mi.load_dict({'type': 'diffuse'})\n"
@@ -180,14 +180,14 @@ def test_a_bsdf_outside_the_scene_runs_the_pass_unfrozen():
             "      all(np.allclose(np.array(f.image), plain, rtol=1e-4, atol=1e-5) for f in frames), float(plain.mean()) > 0)\n"
             "from hybrid_integrator.bench import bench_scene\n"
             "from hybrid_integrator.compare import timed_path\n"
-            "for timed in (lambda: bench_scene(str(scene_file), {'resx': '32', 'resy': '24'}, frames=2, budgets=(), accuracy=False),\n"
+            "for timed in (lambda: bench_scene(scene_file, {'resx': '32', 'resy': '24'}, frames=2, budgets=(), accuracy=False),\n"
             "              lambda: timed_path(scene, 1, 4, 0, frozen=True)):\n"
             "    try:\n"
             "        timed(); print('timed')\n"
             "    except hi.HybridError as error:\n"
             "        print(str(error).split(':')[0 if 'frozen path' in str(error) else 1].strip())\n"
             "del lone; import gc; gc.collect()\n"
-            f"print(hi.render(hi.load_scene({str(DEFAULT_SCENE)!r}, resx=32, resy=24), **kw).stats.frozen_inputs)")
+            "print(hi.render(hi.load_scene(scene_file, resx=32, resy=24), **kw).stats.frozen_inputs)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
     lines = done.stdout.strip().splitlines()[-4:]

@@ -8,7 +8,6 @@ the median trace stage of 20 frames after 3.
 (on the device, after stop31/env.sh: the NAME=VALUE pairs are those of $D)
 """
 import functools
-import statistics
 import sys
 
 import drjit as dr
@@ -17,15 +16,9 @@ import mitsuba as mi
 mi.set_variant("cuda_ad_rgb")
 if sys.argv[1] == "serial":
     mi.load_file = functools.partial(mi.load_file, parallel=False)
-import hybrid_integrator as hi
-from hybrid_integrator.bench import load_bench_scene
-from hybrid_integrator.raster.camera import sensor_to_world
+from trace_probe import load, trace_stage_ms
 
-scene, _ = load_bench_scene(sys.argv[2], dict(kv.split("=", 1) for kv in sys.argv[3:]))
-camera = sensor_to_world(scene.sensors()[0])
+scene, camera = load(sys.argv[2], sys.argv[3:])
 shapes = dr.reinterpret_array(mi.UInt32, mi.ShapePtr(scene.shapes())).numpy().tolist()
 bsdfs = dr.reinterpret_array(mi.UInt32, mi.BSDFPtr([s.bsdf() for s in scene.shapes()])).numpy().tolist()
-hi.render_sequence(scene, [camera] * 3, layers=False)
-frames = hi.render_sequence(scene, [camera] * 20, layers=False)
-trace = statistics.median(f.stats.times_ms["trace"] for f in frames)
-print(f"{sys.argv[1]}: trace stage {trace:.3f} ms; shape ids {shapes}; bsdf ids {bsdfs}", flush=True)
+print(f"{sys.argv[1]}: trace stage {trace_stage_ms(scene, camera):.3f} ms; shape ids {shapes}; bsdf ids {bsdfs}", flush=True)

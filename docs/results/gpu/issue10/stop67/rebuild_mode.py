@@ -8,32 +8,22 @@ after each step, 3 times each:
     python3 docs/results/gpu/issue10/stop67/rebuild_mode.py SCENE [NAME=VALUE ...]
 (on the device, after stop31/env.sh: the NAME=VALUE pairs are those of $D)
 """
-import statistics
 import sys
 
 import mitsuba as mi
 
 mi.set_variant("cuda_ad_rgb")
 import hybrid_integrator as hi
-from hybrid_integrator.bench import load_bench_scene
-from hybrid_integrator.raster.camera import sensor_to_world
+from trace_probe import load, trace_stage_ms
 
-scene, _ = load_bench_scene(sys.argv[1], dict(kv.split("=", 1) for kv in sys.argv[2:]))
-camera = sensor_to_world(scene.sensors()[0])
+scene, camera = load(sys.argv[1], sys.argv[2:])
 params = mi.traverse(scene)
 mesh_key = next(k for k in params.keys() if k.endswith("vertex_positions"))
 
-
-def trace_ms() -> float:
-    hi.render_sequence(scene, [camera] * 3, layers=False)
-    frames = hi.render_sequence(scene, [camera] * 20, layers=False)
-    return statistics.median(f.stats.times_ms["trace"] for f in frames)
-
-
-print(f"first: {trace_ms():.3f} ms", flush=True)
+print(f"first: {trace_stage_ms(scene, camera):.3f} ms", flush=True)
 for step in ("renderer", "accel") * 3:
     if step == "accel":
         params[mesh_key] = mi.Float(params[mesh_key])
         params.update()
     hi.api.forget(scene)
-    print(f"{step} ({mesh_key}): {trace_ms():.3f} ms", flush=True)
+    print(f"{step} ({mesh_key}): {trace_stage_ms(scene, camera):.3f} ms", flush=True)

@@ -8,29 +8,21 @@ alive, which moves where the scene's and the frame's device arrays land.
 """
 import gc
 import os
-import statistics
 import sys
 
 import drjit as dr
 import mitsuba as mi
 
 mi.set_variant("cuda_ad_rgb")
-import hybrid_integrator as hi
-from hybrid_integrator.bench import load_bench_scene
-from hybrid_integrator.raster.camera import sensor_to_world
+from trace_probe import load, trace_stage_ms
 
 loads, path = int(sys.argv[1]), sys.argv[2]
-defines = dict(kv.split("=", 1) for kv in sys.argv[3:])
 pad_mib = int(os.environ.get("PAD", "0"))
-for load in range(loads):
-    pad = dr.zeros(mi.Float, max(1, load * pad_mib) << 18)
+for k in range(loads):
+    pad = dr.zeros(mi.Float, max(1, k * pad_mib) << 18)
     dr.eval(pad)
-    scene, _ = load_bench_scene(path, defines)
-    camera = sensor_to_world(scene.sensors()[0])
-    hi.render_sequence(scene, [camera] * 3, layers=False)
-    frames = hi.render_sequence(scene, [camera] * 20, layers=False)
-    trace = statistics.median(f.stats.times_ms["trace"] for f in frames)
-    print(f"load {load}: trace stage {trace:.3f} ms", flush=True)
-    del frames, scene, camera, pad
+    scene, camera = load(path, sys.argv[3:])
+    print(f"load {k}: trace stage {trace_stage_ms(scene, camera):.3f} ms", flush=True)
+    del scene, camera, pad
     gc.collect()
     dr.flush_malloc_cache()
