@@ -46,10 +46,16 @@ print(json.dumps(out))
 """
 
 
+def _in_fresh_process(code: str, timeout: int) -> list[str]:
+    """The lines ``code`` prints, run by a new Python process (one whose Dr.Jit registry holds no
+    other scene, BSDF or recording); its failure fails the test with its error's end."""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return done.stdout.strip().splitlines()
+
+
 def test_frozen_path_loop_matches_unfrozen():
-    result = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, timeout=600)
-    assert result.returncode == 0, result.stderr
-    out = json.loads(result.stdout.strip().splitlines()[-1])
+    out = json.loads(_in_fresh_process(SCRIPT, 600)[-1])
     recordings = out.pop("recordings")
     assert recordings == [recordings[0]] * len(recordings), recordings
     # one snapshot of the scene's variables served every frame, each variable once, and the pass
@@ -156,9 +162,7 @@ def test_a_class_without_instances_ends_the_snapshot():
             "f = frozen.freeze(lambda scene, x: x + scene.ray_intersect(mi.Ray3f(mi.Point3f(0, 0, 5), mi.Vector3f(0, 0, -1))).t)\n"
             "x = dr.arange(mi.Float, 4)\n"
             "print([float(v) for v in f(x)], [float(v) for v in f(x)], frozen.inputs)")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0, done.stderr[-2000:]
-    line = done.stdout.strip().splitlines()[-1]
+    line = _in_fresh_process(code, 120)[-1]
     assert line.startswith("[4.0, 5.0, 6.0, 7.0] [4.0, 5.0, 6.0, 7.0] variables"), line
 
 
@@ -188,9 +192,7 @@ def test_a_bsdf_outside_the_scene_runs_the_pass_unfrozen():
             "        print(str(error).split(':')[0 if 'frozen path' in str(error) else 1].strip())\n"
             "del lone; import gc; gc.collect()\n"
             "print(hi.render(hi.load_scene(scene_file, resx=32, resy=24), **kw).stats.frozen_inputs)")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr[-2000:]
-    lines = done.stdout.strip().splitlines()[-4:]
+    lines = _in_fresh_process(code, 300)[-4:]
     assert lines[0] == "['unfrozen', 'unfrozen'] record() True True", lines
     # a benchmark refuses to time the fallback under the frozen frame's name: the hybrid's rows and
     # the frozen path baseline alike

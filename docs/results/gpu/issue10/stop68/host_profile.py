@@ -25,11 +25,10 @@ parser.add_argument("--top", type=int, default=45)
 args = parser.parse_args()
 mi.set_variant(args.variant)
 import hybrid_integrator as hi  # noqa: E402
+from hybrid_integrator.bench import load_bench_scene  # noqa: E402
 from hybrid_integrator.raster.camera import sensor_to_world  # noqa: E402
 
-defines = dict(d.split("=", 1) for d in args.D)
-text = open(args.scene).read()
-scene = mi.load_file(args.scene, **{k: v for k, v in defines.items() if "$" + k in text})
+scene, _ = load_bench_scene(args.scene, dict(d.split("=", 1) for d in args.D))
 camera = sensor_to_world(scene.sensors()[0])
 for kind in args.kinds:
     props = {"stage_times": False, **({"effects": "shadow,reflection,refraction"} if kind == "paper" else {})}

@@ -11,12 +11,13 @@ slow time both show up across the rounds.
     python3 docs/results/gpu/issue10/stop68/placement_probe.py SCENE [NAME=VALUE ...]
 (on the device, after stop31/env.sh, from docs/results/gpu/issue10/stop67 on the path)
 """
+import os
 import sys
 
 import drjit as dr
 import mitsuba as mi
 
-mi.set_variant(__import__("os").environ.get("VARIANT", "cuda_ad_rgb"))
+mi.set_variant(os.environ.get("VARIANT", "cuda_ad_rgb"))  # VARIANT=llvm_ad_rgb: a CPU check of the probe
 import hybrid_integrator as hi  # noqa: E402
 from trace_probe import load, trace_stage_ms  # noqa: E402
 
