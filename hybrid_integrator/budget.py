@@ -268,23 +268,55 @@ class FramePlan:
     #: host ms its making took (eq. 1–3 and the selector), wherever the renderer made it: in the
     #: frame's selection phase, or ahead, in the frame before (``pipeline.HybridRenderer._plan``)
     host_ms: float = 0.0
+    #: one more object traced in part with what the budget left: (its row of ``candidates``, the
+    #: quarters of its pixels traced, 1–3; ``selection.QUAD_KEPT``), or None (:func:`_part`)
+    partial: tuple[int, int] | None = None
 
     @property
     def traced(self) -> set[int]:
-        """The object indices traced."""
-        return set(self.candidates.index[self.picked].tolist())
+        """The object indices traced (in part too)."""
+        rows = self.candidates.index[self.picked].tolist()
+        return set(rows + ([int(self.candidates.index[self.partial[0]])] if self.partial else []))
 
 
-def _plan(c: Candidates, picked: np.ndarray, budget: float, probe: bool = False) -> FramePlan:
+def _plan(c: Candidates, picked: np.ndarray, budget: float, probe: bool = False,
+          partial: tuple[int, int] | None = None) -> FramePlan:
     picked = np.asarray(picked, dtype=np.int64)
     # an object picked whole and by its shadow tier is traced whole: the tier's rays are part of it
     whole = np.zeros(int(c.index.max()) + 1 if len(c) else 0, dtype=bool)
     whole[c.index[picked][~c.tier[picked]]] = True
     picked = picked[~(c.tier[picked] & whole[c.index[picked]])]
-    return FramePlan(c, picked, c.rays_of(picked), budget, probe)
+    rays = c.rays_of(picked)
+    if partial is not None:  # its share of the object's rays
+        row, quarters = partial
+        for kind, v in zip(KINDS, c.rays[row] * quarters / 4):
+            if v > 0:
+                rays[kind] = rays.get(kind, 0.0) + float(v)
+    return FramePlan(c, picked, rays, budget, probe, partial=partial)
 
 
-def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostModel, pointers: int = 4) -> FramePlan:
+def _part(c: Candidates, picked: np.ndarray, cost: np.ndarray, room: float) -> tuple[int, int] | None:
+    """What the budget left after the selection buys (``selection.py``, "Part of an object"): of
+    the objects with no row picked, the one whose affordable part (1, 2 or 3 quarters of its
+    pixels, each at a quarter of its whole row's ``cost``) is worth the most relevance (its
+    relevance × the part); None where no quarter of any fits. Returns (its row, quarters)."""
+    picked = np.asarray(picked, dtype=np.int64)
+    left = room - float(cost[picked].sum())
+    taken = np.zeros(int(c.index.max()) + 1, dtype=bool)
+    taken[c.index[picked]] = True
+    rows = np.nonzero(~c.tier & ~taken[c.index] & (cost > 0))[0]
+    if left <= 0 or not len(rows):
+        return None
+    quarters = np.minimum(np.floor(4.0 * left / cost[rows]), 3).astype(np.int64)
+    worth = c.relevance[rows] * quarters
+    if not (quarters >= 1).any() or worth.max() <= 0:
+        return None
+    best = int(np.argmax(worth))
+    return int(rows[best]), int(quarters[best])
+
+
+def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostModel, pointers: int = 4,
+               partial: bool = False) -> FramePlan:
     """Select the objects to trace among ``objects`` (``heuristic.candidates``, or a list of
     ``ObjectRelevance``).
 
@@ -294,7 +326,8 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     (probes that measure the machine; whole objects, not shadow tiers). ``nested`` and ``greedy``
     run on the arrays; ``graph`` and ``exact`` (yardsticks) on one node per candidate
     (``selection_graph``). An object's whole row and its shadow tier are two options of one
-    object: it is traced, and charged, once (``selection_graph``'s options of one object)."""
+    object: it is traced, and charged, once (``selection_graph``'s options of one object).
+    With ``partial``, the budget the selection leaves buys a part of one more object (:func:`_part`)."""
     c = objects if isinstance(objects, Candidates) else _as_candidates(objects)
     if budget_ms <= 0:
         return _plan(c, np.arange(len(c)), float("inf"))
@@ -308,9 +341,11 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
         return _plan(c, [], pass_budget)
     cost = model.extra_rows(c.rays)
     if method in ("nested", "greedy"):  # an object's whole row upgrades its shadow tier (selection_graph.py)
-        return _plan(c, select_rows(method, cost, c.relevance, room, _tier_of_whole(c)), pass_budget)
-    nodes = [Node(int(i), float(cost[i]), float(c.relevance[i]), group=int(c.index[i])) for i in range(len(c))]
-    return _plan(c, [node.key for node in select(method, nodes, room, pointers)], pass_budget)
+        picked = select_rows(method, cost, c.relevance, room, _tier_of_whole(c))
+    else:
+        nodes = [Node(int(i), float(cost[i]), float(c.relevance[i]), group=int(c.index[i])) for i in range(len(c))]
+        picked = [node.key for node in select(method, nodes, room, pointers)]
+    return _plan(c, picked, pass_budget, partial=_part(c, picked, cost, room) if partial else None)
 
 
 def _tier_of_whole(c: Candidates) -> np.ndarray:

@@ -55,7 +55,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from .budget import FramePlan, FrameState, plan_frame
-from .compose import compose
+from .compose import compose, fill_left_out
 from .denoise import QUALITIES, Denoiser, Guides
 from .errors import HybridError, UnsupportedSceneError
 from . import history
@@ -71,7 +71,7 @@ from .raster.context import gl_elapsed_ms, gl_flush
 from .raster.gbuffer import ShapeConstants, aov_values, check_aovs, shape_constants
 from .raster.interop import HostCopy, device_array
 from .raster.visibility import Rasterizer, TriangleTables, resolve_method
-from .selection import DEFAULT_EFFECTS, Selection, parse_effects, refracts, select_pixels
+from .selection import DEFAULT_EFFECTS, Selection, parse_effects, part_config, refracts, select_pixels
 from .selection_graph import SELECTORS
 from .temporal import Accumulator, Surface
 from .trace import RAY_KINDS, LaneHits, LanePrimary, RouletteCap, trace_effects
@@ -159,6 +159,9 @@ class HybridSettings:
     secondary_spp: int = 1
     learn_ambient: bool = True
     shadow_tier: bool = True
+    #: with a budget, what the selection leaves buys a part of one more object's pixels (1–3 of
+    #: each 2×2 quad's four, filled in between: ``selection.py``), not nothing
+    partial_objects: bool = True
     raster_ahead: str = "auto"
     frames_in_flight: int = 1
     #: time each stage on the device (Dr.Jit's kernel history: ``FrameStats.times_ms``); off, a
@@ -341,6 +344,10 @@ class FrameStats:
     relevance_captured: float = 1.0  # Σ R of the traced objects / Σ R of the visible candidates
     selection_changes: int = 0  # objects traced now but not in the previous frame, or the reverse
     shadow_only: tuple[str, ...] = ()  # of ``selected``, those traced by their shadow tier (heuristic.candidates)
+    #: of ``selected``, the object traced in part with what the budget left, and the quarters of
+    #: its pixels traced (1–3; ``selection.py``): "" and 0 where none was
+    partial_object: str = ""
+    partial_quarters: int = 0
     #: rendered in flight (``frames_in_flight=2``, ``inflight.py``): no synchronization at its end;
     #: ``times_ms`` holds ``total`` (device time, CUDA events), ``gl``, ``denoise`` and ``issue``,
     #: its stages NaN, all of them NaN until the next frame or ``HybridRenderer.finish`` reads them
@@ -502,6 +509,10 @@ class PassStatic:
     #: the long paths over them (the Armadillo at 320×180 on two cores: 21 ms in pixel order, 30 ms
     #: long paths first)
     long_first: bool = False
+    #: an object may be traced in part (``HybridSettings.partial_objects`` with a budget): the
+    #: selection reads the pixels' quad positions and the left-out ones are filled
+    #: (``selection.py``, ``compose.fill_left_out``); a frame without a budget has neither
+    partial: bool = False
 
     @property
     def kept(self) -> tuple[str, ...]:
@@ -576,15 +587,20 @@ class PixelTerms:
     raster: mi.Color3f  # the raster layer: the deferred lighting with the ambient term (Fig. 1g)
     traced: mi.Bool  # the selection (selection.select_pixels)
     config: mi.UInt32
+    filled: mi.Bool | None = None  # left out of an object traced in part (PassStatic.partial)
 
     @property
     def albedo(self) -> mi.Color3f:
         return mi.Color3f(*self.targets["albedo"])
 
 
-def pixel_selection(hits, data: PassData, static: PassStatic) -> Selection:
-    """Selection (stage 3, §4) at the primary hits ``hits`` (``selection.select_pixels``)."""
-    return select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs, static.has_emitters)
+def pixel_selection(hits, data: PassData, static: PassStatic, pixel: mi.UInt32 | None = None) -> Selection:
+    """Selection (stage 3, §4) at the primary hits ``hits`` (``selection.select_pixels``), of the
+    film's pixels in order or, for lanes of other pixels, of ``pixel``."""
+    if static.partial and pixel is None:
+        pixel = dr.arange(mi.UInt32, dr.width(hits.valid))
+    return select_pixels(hits.si, hits.ray, hits.object, hits.valid, data.config, static.configs, static.has_emitters,
+                         pixel if static.partial else None, static.width)
 
 
 def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye: mi.Point3f) -> tuple[PixelTerms, mi.Bool]:
@@ -599,7 +615,7 @@ def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye
     return PixelTerms(object=hits.object, valid=hits.valid, depth=dr.norm(hits.si.p - eye),
                       targets={k: targets[k] for k in static.kept}, shaded=shaded,
                       raster=with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient),
-                      traced=selection.traced, config=selection.config), selection.long
+                      traced=selection.traced, config=selection.config, filled=selection.filled), selection.long
 
 
 def refined_lanes(scene: mi.Scene, hits: PrimaryHits, chosen: Selection, data: PassData, static: PassStatic,
@@ -621,7 +637,7 @@ def refined_lanes(scene: mi.Scene, hits: PrimaryHits, chosen: Selection, data: P
             pi = first_hits(scene, lane.ray, again, static.hide_emitters)
             dr.scatter(found, pi, pixel, first)
             lane = resolved(lane, pi, again, data.tables)
-            own = pixel_selection(lane, data, static)
+            own = pixel_selection(lane, data, static, pixel)
             return lane, own.traced, own.config
 
         # a branch, not a mask: the other lanes (most of them) skip it
@@ -679,7 +695,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         clock.mark("trace", rt, direct, counts.per_object)
         # stage 2 once every pixel has its hit (the refined pixels' from what the launch found); what
         # the stages after it read of the refined hits is evaluated with it, not resolved again
-        terms, _ = lit(resolved(hits, found, refined, data.tables), "object", "valid", "depth", "traced", "config")
+        terms, _ = lit(resolved(hits, found, refined, data.tables), "object", "valid", "depth", "traced", "config",
+                       *(("filled",) if static.partial else ()))
     else:
         if static.primary == "raster":
             hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline, static.hide_emitters)
@@ -687,7 +704,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
             hits = traced_hits(scene, ray, data.tables, static.hide_emitters)
         clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
         terms, long = lit(hits)
-        clock.mark("select", terms.traced, terms.config, long if static.long_first else None)
+        clock.mark("select", terms.traced, terms.config, long if static.long_first else None, terms.filled)
         rt, direct, counts = trace(hits, terms.traced, terms.config, long)
     # coverage (eq. 1), then the refined pixels: proxies, silhouettes and misses
     sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=3)
@@ -706,8 +723,12 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     add_error(sums, terms.object, terms.traced, rt, raster_layer, terms.shaded, albedo, static.n_objects, w, full=full,
               direct=direct, tier=tier)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums.values)
-    # 5. composition (§5), splatted like a camera ray through the same film position
-    color = compose(raster_layer, rt, terms.traced, static.blend)
+    # 5. composition (§5), splatted like a camera ray through the same film position; an object
+    # traced in part first fills its left-out pixels from their traced neighbours
+    shown = terms.traced
+    if static.partial:
+        rt, shown = fill_left_out(rt, terms.traced, terms.filled, terms.object, w, h)
+    color = compose(raster_layer, rt, shown, static.blend)
     if static.max_depth == 0:  # as Mitsuba's path: no vertex at all, not even an emitter seen directly
         color = dr.zeros(mi.Color3f, w * h)
     index = dr.arange(mi.UInt32, w * h)
@@ -723,7 +744,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
     layers = None
     if static.layers:
         layer_block = mi.ImageBlock(film.crop_size(), film.crop_offset(), 8, rfilter)
-        layer_block.put(pos, [*raster_layer, *rt, dr.select(terms.traced, 1.0, 0.0),
+        layer_block.put(pos, [*raster_layer, *rt, dr.select(shown, 1.0, 0.0),
                               mi.Float(1.0)])
         layers = layer_block.tensor()
     guides = surface = film_block = None
@@ -1076,7 +1097,8 @@ class HybridRenderer:
             background_alpha=self.scene.environment() is not None and not settings.hide_emitters,
             n_objects=len(self.objects), guides=settings.denoise, surface=settings.temporal, modelled=modelled,
             film_copy=settings.temporal and settings.denoise and not film.rfilter().is_box_filter(),
-            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"))
+            secondary_spp=settings.secondary_spp, long_first=glass and mi.variant().startswith("cuda"),
+            partial=settings.partial_objects and settings.budget_ms > 0)
         config = np.array([configs.index(a) if a else -1 for a in active], dtype=np.int32)
         return (static, active_kinds(kinds, settings.effects), config, mi.Int32(config), tiers,
                 Development(film, settings.temporal or settings.denoise))
@@ -1140,6 +1162,10 @@ class HybridRenderer:
         if len(tier):
             config[tier] = frame.static.configs.index(SHADOW_ONLY)
         config[whole] = frame.candidate_config[whole]
+        if plan.partial is not None:  # the budget's last object, on part of its pixels
+            row, quarters = plan.partial
+            k = c.index[row]
+            config[k] = part_config(int(frame.candidate_config[k]), quarters)
         frame.traces = bool((config >= 0).any())
         return plan, device_array(mi.Int32, config)
 
@@ -1151,7 +1177,8 @@ class HybridRenderer:
         growth = state.growth if cov is state.coverage else None  # the growth that led to ``cov``
         c = candidates(cov, frame.active, state.selected if selected is None else selected, settings.importance,
                        state.rays_per_pixel, self._errors(settings, state), frame.tiers, growth)
-        plan = plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model)
+        plan = plan_frame(c, settings.selection, settings.budget_ms, frame.stats.spp, state.cost_model,
+                          partial=settings.partial_objects)
         plan.host_ms = (time.perf_counter() - start) * 1e3
         return plan
 
@@ -1329,26 +1356,30 @@ class HybridRenderer:
         cov = covs[0]
         if plan is None and not frame.traces:  # no candidate at all: nothing traced, nothing to order
             ordered, planned = np.zeros(0, dtype=np.int64), set()
-            keys = ordered
+            keys, part = ordered, np.ones(0)
         elif plan is None:  # no budget: every visible candidate was traced; most relevant first
             terms = visibility_terms(cov, frame.active, state.selected, settings.importance, self._errors(settings, state))
             visible = np.nonzero(terms.candidate)[0]
             ordered = visible[np.argsort(-terms.relevance[visible], kind="stable")]
-            keys = ordered
+            keys, part = ordered, np.ones(len(ordered))
             planned = set(ordered.tolist())
             stats.candidates_visible = len(ordered)
         else:
             c = plan.candidates
-            picked = np.zeros(len(c), dtype=bool)
-            picked[plan.picked] = True
-            traced = picked & (cov.pixels[c.index] > 0)
+            share = np.zeros(len(c))  # the part of each row's pixels traced
+            share[plan.picked] = 1.0
+            if plan.partial is not None:
+                share[plan.partial[0]] = plan.partial[1] / 4
+                stats.partial_object = self.objects.names[int(c.index[plan.partial[0]])]
+                stats.partial_quarters = plan.partial[1]
+            traced = (share > 0) & (cov.pixels[c.index] > 0)
             rows = np.nonzero(traced)[0][np.argsort(-c.relevance[traced], kind="stable")]
-            ordered, keys = c.index[rows], c.keys(len(self.objects))[rows]
+            ordered, keys, part = c.index[rows], c.keys(len(self.objects))[rows], share[rows]
             stats.shadow_only = tuple(self.objects.names[k] for k in c.index[rows[c.tier[rows]]].tolist())
             planned = plan.traced
             total = float(c.relevance[~c.tier].sum())  # every object whole: all there is to capture
             stats.candidates_visible = len(c)
-            stats.relevance_captured = float(c.relevance[traced].sum() / total) if total > 0 else 1.0
+            stats.relevance_captured = float((c.relevance * share)[traced].sum() / total) if total > 0 else 1.0
             stats.predicted_trace_ms = float(state.cost_model.predict(plan.rays)) * len(passes) if planned else 0.0
             stats.predicted_rays = int(sum(plan.rays.values()) * len(passes))
             stats.plan_ms = plan.host_ms
@@ -1365,7 +1396,7 @@ class HybridRenderer:
             errors, pairs, residual, albedo, indirect, tier_errors = (
                 sum(getattr(c, name) for c in covs)
                 for name in ("error_sum", "pairs", "residual_sum", "albedo_sum", "indirect_sum", "tier_error_sum"))
-            pixels = cov.pixels[ordered] * len(passes)
+            pixels = cov.pixels[ordered] * len(passes) * part  # those traced: an object in part, its share
             state.learn_rays(keys, pixels, per_object[ordered])
             n = len(self.objects)
             whole = ordered[keys < n]  # errors are learnt where an object is traced whole (heuristic.py)

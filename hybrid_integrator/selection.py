@@ -17,6 +17,17 @@ indirect      diffuse reflection or transmission                BSDF-sampled dif
 A pixel is traced when its object is selected this frame (``heuristic.py``, ``budget.py``: the
 candidates of §4.1 narrowed by the relevance/cost heuristic) and it needs at least one of the
 effects its object deserves; every other pixel shows the raster layer (§5).
+
+**Part of an object.** A budget picks whole objects (or their shadow tiers, ``heuristic.py``), and
+the one it cannot afford whole used to be left out however much budget remained: on the H100 the
+glass Armadillo's whole trace (5.2 ms) never fit 75 % of the frame's trace time, so the budgets of
+25, 50 and 75 % all bought the floor's shadows alone, at one error. What is left after the
+selection now buys a part of one more object (``budget.plan_frame``): its pixels at 1, 2 or 3 of
+the four positions of each 2×2 pixel quad (:data:`QUAD_KEPT`; 2 of 4 is a checkerboard), as
+checkerboard rendering does, at that fraction of the object's rays. The object's per-object
+``config`` carries the positions left out above its effect set (:func:`part_config`), and its
+pixels there are *filled*: they show the mean of their traced neighbours on the same object
+(``compose.fill_left_out``), which the denoiser then treats as any traced light.
 """
 from __future__ import annotations
 
@@ -28,6 +39,22 @@ from .errors import HybridError
 
 EFFECTS = ("shadow", "reflection", "refraction", "indirect")
 DEFAULT_EFFECTS = EFFECTS  # every term traced where selected: the traced pixels are unbiased (issue 11)
+
+
+#: the bit above which a per-object ``config`` holds the quad positions its part leaves out
+PART_SHIFT = 8
+#: per number of quarters of an object traced, the positions of each 2×2 pixel quad kept
+#: (position = x mod 2 + 2 · (y mod 2)): one; a diagonal pair (a checkerboard); all but one
+QUAD_KEPT = {1: (0,), 2: (0, 3), 3: (0, 1, 3), 4: (0, 1, 2, 3)}
+
+
+def part_config(config: int, quarters: int) -> int:
+    """An object's ``config`` (the index of its effect set) traced on ``quarters`` of its pixels
+    (1–4, :data:`QUAD_KEPT`): the positions left out, as bits above :data:`PART_SHIFT`."""
+    if config < 0 or quarters not in QUAD_KEPT:
+        raise ValueError(f"part_config({config}, {quarters}): an effect set >= 0 and 1-4 quarters")
+    left_out = sum(1 << p for p in range(4) if p not in QUAD_KEPT[quarters])
+    return int(config) | (left_out << PART_SHIFT)
 
 
 def lobes(effects: tuple[str, ...]) -> int:
@@ -60,6 +87,9 @@ class Selection:
     traced: mi.Bool  # the pixel's primary hit is ray traced
     config: mi.UInt32  # which of the effect sets its object deserves (an index into ``configs``)
     long: mi.Bool  # its paths are expected to be long (:func:`long_paths`): the trace may launch them first
+    #: a pixel of an object traced in part, at a quad position left out (module docstring); None
+    #: where no pixel position was given
+    filled: mi.Bool | None = None
 
 
 def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.Bool:
@@ -74,16 +104,28 @@ def needs(flags: mi.UInt32, effects: tuple[str, ...], has_emitters: bool) -> mi.
 
 
 def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, valid: mi.Bool,
-                  object_config: mi.Int32, configs: tuple[tuple[str, ...], ...], has_emitters: bool) -> Selection:
+                  object_config: mi.Int32, configs: tuple[tuple[str, ...], ...], has_emitters: bool,
+                  pixel: mi.UInt32 | None = None, width: int = 0) -> Selection:
     """Traced pixels: pixels of the selected objects (``object_config`` ≥ 0, per object: the index
     of the object's effect set in ``configs``; −1: not traced this frame) whose BSDF needs one of
-    those effects. ``object_config`` is data, not code: a new selection reuses the same kernels."""
-    config = dr.select(valid, dr.gather(mi.Int32, object_config, obj, valid), -1)
+    those effects. ``object_config`` is data, not code: a new selection reuses the same kernels.
+    With each lane's ``pixel`` (its index in a film ``width`` pixels wide), an object's config may
+    also leave out quad positions (:func:`part_config`): its pixels there are not traced but
+    ``filled``."""
+    raw = dr.select(valid, dr.gather(mi.Int32, object_config, obj, valid), -1)
+    config = dr.select(raw >= 0, raw & ((1 << PART_SHIFT) - 1), -1)
     flags = si.bsdf(ray).flags()
     traced = mi.Bool(False)
     for k, effects in enumerate(configs):  # every set, selected or not: the same kernel every frame
         traced |= (config == k) & needs(flags, effects, has_emitters)
-    return Selection(traced=traced & valid, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags))
+    traced &= valid
+    filled = None
+    if pixel is not None:
+        position = (pixel & 1) | (((pixel // width) & 1) << 1)
+        left_out = (raw >= 0) & (((mi.UInt32(raw) >> (PART_SHIFT + position)) & 1) != 0)
+        filled = traced & left_out
+        traced &= ~left_out
+    return Selection(traced=traced, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags), filled=filled)
 
 
 #: lanes per block of the compaction's first-level prefix sums (``compact``): the largest block

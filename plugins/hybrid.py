@@ -26,6 +26,7 @@
         <integer name="secondary_spp" value="1"/>      <!-- paths traced from each primary hit -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
         <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
+        <boolean name="partial_objects" value="true"/> <!-- budgets: what is left buys part of an object -->
         <string name="raster_ahead" value="auto"/>     <!-- or "on", "off": next frame's raster pass -->
         <integer name="frames_in_flight" value="1"/>   <!-- 2: the next frame issued while the GPU finishes this one -->
         <boolean name="stage_times" value="true"/>     <!-- false: no per-stage device times, a shorter frame -->
@@ -119,6 +120,12 @@ Properties
                  whole, at a fraction of the cost; chosen like an object, by the error it was
                  measured to remove (``hybrid_integrator/heuristic.py``; default on;
                  ``stats.shadow_only`` lists the objects so traced).
+``partial_objects`` with a budget: what the selection leaves buys a part of one more object, its
+                 pixels at 1, 2 or 3 of the four positions of each 2×2 pixel quad, the others
+                 filled with the mean of their traced neighbours on the object (checkerboard
+                 rendering; ``hybrid_integrator/selection.py``), where before the budget bought
+                 nothing more once the next object did not fit whole (default on;
+                 ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues
                  the next frame's raster pass at its end, behind its own work: OpenGL runs it once
