@@ -248,7 +248,8 @@ def coverage_sums(obj: mi.UInt32, valid: mi.Bool, depth: mi.Float, width: int, h
 
 def add_error(sums: DeviceSums, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color3f, cheap: mi.Color3f,
               base: mi.Color3f, albedo: mi.Color3f, n_objects: int, width: int, full: mi.Bool | None = None,
-              direct: mi.Color3f | None = None, tier: mi.Color3f | None = None) -> None:
+              direct: mi.Color3f | None = None, tier: mi.Color3f | None = None,
+              skipped: mi.Bool | None = None) -> None:
     """Add to each object's sums in ``sums`` (:func:`coverage_sums`) the products
     ``d_i·d_{i+1}`` of horizontally adjacent traced pixels of that object, ``d = τ(exact) −
     τ(cheap)`` (module docstring; ``cheap``: the raster layer as composed; pixels in row-major
@@ -259,7 +260,10 @@ def add_error(sums: DeviceSums, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color
     first vertex) the indirect light ``exact − direct``, from which the shadow tier's cheap
     indirect term is fitted. With ``tier`` (what the shadow tier would show there: ``direct`` + the
     learnt indirect term), the products ``t_i·t_{i+1}``, ``t = τ(exact) − τ(tier)``: the mean square
-    error the tier leaves (module docstring)."""
+    error the tier leaves (module docstring). ``skipped`` marks the pixels an object traced in part
+    leaves out (``selection.QUAD_KEPT``): a traced pixel whose right neighbour is one pairs with
+    the pixel after it, so that a part of 1 or 2 quarters (no two traced pixels side by side) is
+    measured too."""
     def tone(c):
         y = mi.luminance(c)
         return y / (1.0 + y)
@@ -269,7 +273,9 @@ def add_error(sums: DeviceSums, obj: mi.UInt32, traced: mi.Bool, exact: mi.Color
     d = dr.select(traced, tone(exact) - tone(cheap), 0.0)
     pixel = dr.arange(mi.UInt32, dr.width(traced))
     right = pixel + 1
-    pair = traced & (pixel % width != width - 1)
+    if skipped is not None:  # two apart across a left-out pixel
+        right += dr.select(dr.gather(mi.Bool, skipped, right, pixel % width < width - 2), 1, 0)
+    pair = traced & (pixel % width < width - (right - pixel))
     pair &= dr.gather(mi.Bool, traced, right, pair) & (dr.gather(mi.UInt32, obj, right, pair) == obj)
     sums.add(d * dr.gather(mi.Float, d, right, pair), 4 * n + obj, pair)
     sums.add(1.0, 11 * n + obj, pair)

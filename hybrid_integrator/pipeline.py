@@ -161,7 +161,7 @@ class HybridSettings:
     shadow_tier: bool = True
     #: with a budget, what the selection leaves buys a part of one more object's pixels (1–3 of
     #: each 2×2 quad's four, filled in between: ``selection.py``), not nothing
-    partial_objects: bool = True
+    partial_objects: bool = False  # opt-in: docs/results/gpu/issue10/stop69 (worse on Sponza, the dining room at 25 %)
     raster_ahead: str = "auto"
     frames_in_flight: int = 1
     #: time each stage on the device (Dr.Jit's kernel history: ``FrameStats.times_ms``); off, a
@@ -721,7 +721,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         rt = with_ambient(rt, albedo, terms.object, modelled, data.indirect)
         tier = with_ambient(direct, albedo, terms.object, full, data.indirect)  # what a shadow tier would show
     add_error(sums, terms.object, terms.traced, rt, raster_layer, terms.shaded, albedo, static.n_objects, w, full=full,
-              direct=direct, tier=tier)  # what tracing changed
+              direct=direct, tier=tier, skipped=terms.filled)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums.values)
     # 5. composition (§5), splatted like a camera ray through the same film position; an object
     # traced in part first fills its left-out pixels from their traced neighbours

@@ -26,7 +26,7 @@
         <integer name="secondary_spp" value="1"/>      <!-- paths traced from each primary hit -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
         <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
-        <boolean name="partial_objects" value="true"/> <!-- budgets: what is left buys part of an object -->
+        <boolean name="partial_objects" value="false"/> <!-- budgets: what is left buys part of an object -->
         <string name="raster_ahead" value="auto"/>     <!-- or "on", "off": next frame's raster pass -->
         <integer name="frames_in_flight" value="1"/>   <!-- 2: the next frame issued while the GPU finishes this one -->
         <boolean name="stage_times" value="true"/>     <!-- false: no per-stage device times, a shorter frame -->
@@ -124,7 +124,10 @@ Properties
                  pixels at 1, 2 or 3 of the four positions of each 2×2 pixel quad, the others
                  filled with the mean of their traced neighbours on the object (checkerboard
                  rendering; ``hybrid_integrator/selection.py``), where before the budget bought
-                 nothing more once the next object did not fit whole (default on;
+                 nothing more once the next object did not fit whole (default off: on the H100 it
+                 cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061 and helped the
+                 showcase, but made Sponza's and the dining room's 25 % frames worse, 0.287 to
+                 0.414 and 0.401 to 0.719, for a cause not yet found: docs/results/gpu/issue10/stop69;
                  ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues

@@ -14,7 +14,7 @@ import hybrid_integrator as hi
 from hybrid_integrator.api import renderer
 from hybrid_integrator.budget import CostModel, FrameState, plan_frame
 from hybrid_integrator.compose import fill_left_out
-from hybrid_integrator.heuristic import KINDS, Candidates
+from hybrid_integrator.heuristic import BLOCKS, KINDS, Candidates, Coverage, DeviceSums, add_error
 from hybrid_integrator.pipeline import HybridSettings
 from hybrid_integrator.primary import camera_rays
 from hybrid_integrator.selection import QUAD_KEPT, part_config, select_pixels
@@ -113,6 +113,32 @@ def test_a_left_out_pixel_takes_the_mean_of_its_traced_neighbours_on_its_object(
     assert np.array_equal(np.array(shown), traced | np.isin(np.arange(12), [1, 5]))
     untouched = ~np.isin(np.arange(12), [1, 5])
     assert np.array_equal(x[untouched], values[untouched])
+
+
+@pytest.mark.parametrize("quarters", [1, 2, 3])
+def test_a_part_is_measured_across_its_left_out_pixels(quarters):
+    """The error relevance pairs horizontally adjacent traced pixels (``heuristic.add_error``); a
+    part of 1 or 2 quarters has no two side by side, so a traced pixel whose right neighbour was
+    left out pairs with the pixel after it. With a bias b on every traced pixel, E = b from every
+    part; without ``skipped`` a part of 1 or 2 quarters would have no pair at all."""
+    h, w = 8, 12
+    y, x = np.mgrid[0:h, 0:w]
+    kept = np.isin(x % 2 + 2 * (y % 2), QUAD_KEPT[quarters])
+    tone = lambda v: v / (1.0 + v)
+    cheap = np.full((h, w), 0.5)
+    exact_tone = tone(cheap) + 0.2
+    exact = np.where(kept, exact_tone / (1.0 - exact_tone), cheap)
+    def color(v):
+        return mi.Color3f(*(mi.Float(v.ravel().astype(np.float32)) for _ in range(3)))
+    def pairs(skipped):
+        sums = DeviceSums(mi.Float, BLOCKS)
+        add_error(sums, mi.UInt32(np.zeros(h * w, np.uint32)), mi.Bool(kept.ravel()), color(exact), color(cheap),
+                  color(cheap), color(cheap), 1, w, skipped=skipped)
+        return Coverage.of(sums.total(), w, h, 1)
+    measured = pairs(mi.Bool((~kept).ravel()))
+    assert measured.pairs[0] > 0
+    assert np.sqrt(measured.error_sum[0] / measured.pairs[0]) == pytest.approx(0.2, abs=1e-5)
+    assert (pairs(None).pairs[0] == 0) == (quarters < 3)
 
 
 def test_a_budget_short_of_the_glass_armadillo_traces_part_of_it():
