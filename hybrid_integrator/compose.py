@@ -6,10 +6,11 @@ Here: ``blend · rt + (1 − blend) · raster`` on traced pixels, the raster lay
 
 An object traced in part (``selection.py``: a budget's last object, at 1–3 of the four positions
 of each 2×2 pixel quad) has pixels with no traced value of their own; :func:`fill_left_out` gives
-each the mean of its traced 8-neighbours on the same object (every left-out pixel has one where
-the object continues: the kept positions of :data:`selection.QUAD_KEPT` touch every position of
-the quad and its neighbours), the reconstruction of checkerboard rendering. A pixel with no such
-neighbour (the object's edge) keeps the raster layer.
+those with a delta lobe (``selection.FILL_LOBES``: a mirror, a glass) the mean of their traced
+8-neighbours on the same object (every left-out pixel has one where the object continues: the
+kept positions of :data:`selection.QUAD_KEPT` touch every position of the quad and its
+neighbours), the reconstruction of checkerboard rendering. A pixel with no such neighbour (the
+object's edge), and a left-out pixel without a delta lobe, keeps the raster layer.
 """
 from __future__ import annotations
 

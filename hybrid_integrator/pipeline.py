@@ -510,7 +510,7 @@ class PassStatic:
     #: long paths first)
     long_first: bool = False
     #: an object may be traced in part (``HybridSettings.partial_objects`` with a budget): the
-    #: selection reads the pixels' quad positions and the left-out ones are filled
+    #: selection reads the pixels' quad positions and the left-out ones with a delta lobe are filled
     #: (``selection.py``, ``compose.fill_left_out``); a frame without a budget has neither
     partial: bool = False
 
@@ -587,7 +587,8 @@ class PixelTerms:
     raster: mi.Color3f  # the raster layer: the deferred lighting with the ambient term (Fig. 1g)
     traced: mi.Bool  # the selection (selection.select_pixels)
     config: mi.UInt32
-    filled: mi.Bool | None = None  # left out of an object traced in part (PassStatic.partial)
+    left_out: mi.Bool | None = None  # left out of an object traced in part (PassStatic.partial)
+    filled: mi.Bool | None = None  # those of them filled from their traced neighbours (selection.FILL_LOBES)
 
     @property
     def albedo(self) -> mi.Color3f:
@@ -615,7 +616,8 @@ def surface_terms(scene: mi.Scene, hits, data: PassData, static: PassStatic, eye
     return PixelTerms(object=hits.object, valid=hits.valid, depth=dr.norm(hits.si.p - eye),
                       targets={k: targets[k] for k in static.kept}, shaded=shaded,
                       raster=with_ambient(shaded, albedo, hits.object, hits.valid, data.ambient),
-                      traced=selection.traced, config=selection.config, filled=selection.filled), selection.long
+                      traced=selection.traced, config=selection.config, left_out=selection.left_out,
+                      filled=selection.filled), selection.long
 
 
 def refined_lanes(scene: mi.Scene, hits: PrimaryHits, chosen: Selection, data: PassData, static: PassStatic,
@@ -696,7 +698,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         # stage 2 once every pixel has its hit (the refined pixels' from what the launch found); what
         # the stages after it read of the refined hits is evaluated with it, not resolved again
         terms, _ = lit(resolved(hits, found, refined, data.tables), "object", "valid", "depth", "traced", "config",
-                       *(("filled",) if static.partial else ()))
+                       *(("left_out", "filled") if static.partial else ()))
     else:
         if static.primary == "raster":
             hits = primary_hits(scene, ray, data.triangle_id, w, h, data.tables, static.outline, static.hide_emitters)
@@ -704,7 +706,8 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
             hits = traced_hits(scene, ray, data.tables, static.hide_emitters)
         clock.mark("raster", hits.ray, hits.si, hits.shape, hits.object, hits.valid, hits.refined)
         terms, long = lit(hits)
-        clock.mark("select", terms.traced, terms.config, long if static.long_first else None, terms.filled)
+        clock.mark("select", terms.traced, terms.config, long if static.long_first else None, terms.left_out,
+                   terms.filled)
         rt, direct, counts = trace(hits, terms.traced, terms.config, long)
     # coverage (eq. 1), then the refined pixels: proxies, silhouettes and misses
     sums = coverage_sums(terms.object, terms.valid, terms.depth, w, h, static.n_objects, extra=3)
@@ -721,7 +724,7 @@ def device_pass(scene: mi.Scene, sensor: mi.Sensor, data: PassData, static: Pass
         rt = with_ambient(rt, albedo, terms.object, modelled, data.indirect)
         tier = with_ambient(direct, albedo, terms.object, full, data.indirect)  # what a shadow tier would show
     add_error(sums, terms.object, terms.traced, rt, raster_layer, terms.shaded, albedo, static.n_objects, w, full=full,
-              direct=direct, tier=tier, skipped=terms.filled)  # what tracing changed
+              direct=direct, tier=tier, skipped=terms.left_out)  # what tracing changed
     clock.mark("trace", rt, counts.per_object, sums.values)
     # 5. composition (§5), splatted like a camera ray through the same film position; an object
     # traced in part first fills its left-out pixels from their traced neighbours

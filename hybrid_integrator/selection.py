@@ -25,9 +25,18 @@ glass Armadillo's whole trace (5.2 ms) never fit 75 % of the frame's trace time,
 selection now buys a part of one more object (``budget.plan_frame``): its pixels at 1, 2 or 3 of
 the four positions of each 2×2 pixel quad (:data:`QUAD_KEPT`; 2 of 4 is a checkerboard), as
 checkerboard rendering does, at that fraction of the object's rays. The object's per-object
-``config`` carries the positions left out above its effect set (:func:`part_config`), and its
-pixels there are *filled*: they show the mean of their traced neighbours on the same object
-(``compose.fill_left_out``), which the denoiser then treats as any traced light.
+``config`` carries the positions left out above its effect set (:func:`part_config`). Its pixels
+there are *filled* where their BSDF has a delta lobe (:data:`FILL_LOBES`): they show the mean of
+their traced neighbours on the same object (``compose.fill_left_out``), which the denoiser then
+treats as any traced light. Elsewhere they keep the raster layer. A mirror's or a glass's traced
+light is what the raster cannot show at all, and its neighbours' values have little noise; a
+diffuse or glossy surface's traced light at 1 spp is mostly noise, and a fill averages it into
+blotches two pixels wide that the denoiser keeps as detail (it removes only noise that is
+independent from pixel to pixel). On the CPU at 320×180 (FLIP of the denoised frame against
+``path``, 1–3 quarters): the glass Armadillo 0.0615 / 0.0570 / 0.0494 filled against
+0.1288 / 0.0885 / 0.0602 not, but its diffuse floor 0.3005 / 0.2746 / 0.2108 filled against
+0.2077 / 0.2040 / 0.2041 not, and the dining room's largest diffuse object 0.8019 / 0.7595 /
+0.6822 against 0.7195 / 0.6853 / 0.6366 (docs/results/gpu/issue10/stop70).
 """
 from __future__ import annotations
 
@@ -46,6 +55,9 @@ PART_SHIFT = 8
 #: per number of quarters of an object traced, the positions of each 2×2 pixel quad kept
 #: (position = x mod 2 + 2 · (y mod 2)): one; a diagonal pair (a checkerboard); all but one
 QUAD_KEPT = {1: (0,), 2: (0, 3), 3: (0, 1, 3), 4: (0, 1, 2, 3)}
+#: the lobes of a left-out pixel's BSDF that have it filled from its traced neighbours (module
+#: docstring): delta reflection, delta transmission and null (what the raster layer cannot show)
+FILL_LOBES = mi.BSDFFlags.Delta
 
 
 def part_config(config: int, quarters: int) -> int:
@@ -89,6 +101,8 @@ class Selection:
     long: mi.Bool  # its paths are expected to be long (:func:`long_paths`): the trace may launch them first
     #: a pixel of an object traced in part, at a quad position left out (module docstring); None
     #: where no pixel position was given
+    left_out: mi.Bool | None = None
+    #: those of them filled from their traced neighbours (:data:`FILL_LOBES`); None as ``left_out``
     filled: mi.Bool | None = None
 
 
@@ -111,7 +125,7 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
     those effects. ``object_config`` is data, not code: a new selection reuses the same kernels.
     With each lane's ``pixel`` (its index in a film ``width`` pixels wide), an object's config may
     also leave out quad positions (:func:`part_config`): its pixels there are not traced but
-    ``filled``."""
+    ``left_out``, and ``filled`` where their BSDF has a lobe of :data:`FILL_LOBES`."""
     raw = dr.select(valid, dr.gather(mi.Int32, object_config, obj, valid), -1)
     config = dr.select(raw >= 0, raw & ((1 << PART_SHIFT) - 1), -1)
     flags = si.bsdf(ray).flags()
@@ -119,13 +133,14 @@ def select_pixels(si: mi.SurfaceInteraction3f, ray: mi.Ray3f, obj: mi.UInt32, va
     for k, effects in enumerate(configs):  # every set, selected or not: the same kernel every frame
         traced |= (config == k) & needs(flags, effects, has_emitters)
     traced &= valid
-    filled = None
+    left_out = filled = None
     if pixel is not None:
         position = (pixel & 1) | (((pixel // width) & 1) << 1)
-        left_out = (raw >= 0) & (((mi.UInt32(raw) >> (PART_SHIFT + position)) & 1) != 0)
-        filled = traced & left_out
+        left_out = traced & (raw >= 0) & (((mi.UInt32(raw) >> (PART_SHIFT + position)) & 1) != 0)
+        filled = left_out & ((flags & int(FILL_LOBES)) != 0)
         traced &= ~left_out
-    return Selection(traced=traced, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags), filled=filled)
+    return Selection(traced=traced, config=mi.UInt32(dr.maximum(config, 0)), long=long_paths(flags),
+                     left_out=left_out, filled=filled)
 
 
 #: lanes per block of the compaction's first-level prefix sums (``compact``): the largest block

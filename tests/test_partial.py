@@ -1,6 +1,6 @@
 """Part of an object (``selection.py``): the budget a selection leaves buys 1–3 of each 2×2 pixel
-quad's positions of one more object, whose left-out pixels are filled from their traced
-neighbours (``compose.fill_left_out``)."""
+quad's positions of one more object, whose left-out pixels with a delta lobe are filled from
+their traced neighbours (``compose.fill_left_out``)."""
 from __future__ import annotations
 
 import copy
@@ -17,7 +17,7 @@ from hybrid_integrator.compose import fill_left_out
 from hybrid_integrator.heuristic import BLOCKS, KINDS, Candidates, Coverage, DeviceSums, add_error
 from hybrid_integrator.pipeline import HybridSettings
 from hybrid_integrator.primary import camera_rays
-from hybrid_integrator.selection import QUAD_KEPT, part_config, select_pixels
+from hybrid_integrator.selection import FILL_LOBES, QUAD_KEPT, part_config, select_pixels
 from conftest import DEFAULT_SCENE, ROOT, SHARED_SCENES, load
 from test_accuracy import camera_of, flip, reference
 
@@ -74,25 +74,32 @@ def test_an_object_with_a_row_picked_is_not_also_traced_in_part():
 
 
 @pytest.mark.parametrize("quarters", [1, 2, 3])
-def test_an_objects_part_traces_its_kept_quad_positions_and_fills_the_rest(quarters):
+def test_an_objects_part_traces_its_kept_quad_positions_and_fills_its_delta_pixels(quarters):
     """Mitsuba's own hits of the default scene's camera rays, all taken as one object traced with
-    shadows on ``quarters`` of its pixels: a pixel that needs a shadow ray is traced at the kept
-    positions of its 2×2 quad and filled at the others (x mod 2 + 2 · (y mod 2))."""
+    shadows, reflections and refractions on ``quarters`` of its pixels: a pixel that needs one is
+    traced at the kept positions of its 2×2 quad (x mod 2 + 2 · (y mod 2)) and left out at the
+    others; a left-out pixel on the mirror or the glass (a delta lobe) is filled, one on the
+    diffuse walls keeps the raster layer."""
     scene = load(DEFAULT_SCENE, resx=32, resy=24)
     ray = camera_rays(scene.sensors()[0], 32, 24, (0.5, 0.5))
     si = scene.ray_intersect(ray)
     pixel = dr.arange(mi.UInt32, 32 * 24)
     obj = dr.zeros(mi.UInt32, 32 * 24)
     config = mi.Int32([part_config(0, quarters)])
-    whole = select_pixels(si, ray, obj, si.is_valid(), mi.Int32([0]), (("shadow",),), True)
-    part = select_pixels(si, ray, obj, si.is_valid(), config, (("shadow",),), True, pixel, 32)
+    effects = (("shadow", "reflection", "refraction"),)
+    whole = select_pixels(si, ray, obj, si.is_valid(), mi.Int32([0]), effects, True)
+    part = select_pixels(si, ray, obj, si.is_valid(), config, effects, True, pixel, 32)
     needs = np.array(whole.traced)
-    assert needs.sum() > 500 and whole.filled is None
+    assert needs.sum() > 500 and whole.left_out is None and whole.filled is None
     index = np.arange(32 * 24)
     position = index % 2 + 2 * ((index // 32) % 2)
     kept = np.isin(position, QUAD_KEPT[quarters])
     assert np.array_equal(np.array(part.traced), needs & kept)
-    assert np.array_equal(np.array(part.filled), needs & ~kept)
+    assert np.array_equal(np.array(part.left_out), needs & ~kept)
+    delta = (np.array(si.bsdf(ray).flags()) & int(FILL_LOBES)) != 0
+    filled = np.array(part.filled)
+    assert np.array_equal(filled, needs & ~kept & delta)
+    assert 0 < filled.sum() < np.array(part.left_out).sum()  # the mirror and glass, not the walls
     assert np.array_equal(np.array(part.config), np.zeros(32 * 24))  # the effect set, without the part's bits
 
 

@@ -4,6 +4,7 @@ For each scene: the all-candidates trace stage's device time (median), then at b
 and 75 % of it, a still camera's frames (``hi.render_sequence``, 1 spp, ``stage_times=False`` as
 the bench times them), with ``partial_objects`` off (an object is traced whole or not at all) and
 on (the budget left after the selection buys a part of the next object's pixels, pipeline.py).
+With ``--rt``, the RT baseline's frames too (``primary="raytrace"``, timed as the budgets' frames).
 Prints per budget and mode the median frame and trace times, the timed frames within budget,
 the pixels traced and the objects traced in part, and the error of the last frames against
 ``path`` at ``--gt-spp`` (FLIP, mean over the last ``--error-frames``; ``metrics.py``).
@@ -27,6 +28,8 @@ def main() -> None:
     parser.add_argument("--budgets", type=float, nargs="+", default=[0.25, 0.5, 0.75])
     parser.add_argument("--modes", nargs="+", default=["whole", "partial"])
     parser.add_argument("--effects", default=None)
+    parser.add_argument("--rt", action="store_true", help="a row for the RT baseline (primary='raytrace', every "
+                        "candidate), timed as the budgets' frames: item 4's 50 %% frame against it")
     args = parser.parse_args()
     mi.set_variant(args.variant)
     import hybrid_integrator as hi
@@ -45,6 +48,9 @@ def main() -> None:
         every = hi.render_sequence(scene, [camera] * 13, layers=False, **base)[3:]
         trace_all = statistics.median(r.stats.times_ms["trace"] for r in every)
         rows = [("all", "-", every)]
+        if args.rt:
+            rows.append(("rt", "-", hi.render_sequence(scene, [camera] * (5 + args.frames), layers=False, stage_times=False,
+                                                       primary="raytrace", **base)[5:]))
         for fraction in args.budgets:
             for mode in args.modes:
                 frames = hi.render_sequence(scene, [camera] * (5 + args.frames), layers=False, stage_times=False,
