@@ -121,13 +121,14 @@ Properties
                  measured to remove (``hybrid_integrator/heuristic.py``; default on;
                  ``stats.shadow_only`` lists the objects so traced).
 ``partial_objects`` with a budget: what the selection leaves buys a part of one more object, its
-                 pixels at 1, 2 or 3 of the four positions of each 2×2 pixel quad, the others
-                 filled with the mean of their traced neighbours on the object (checkerboard
-                 rendering; ``hybrid_integrator/selection.py``), where before the budget bought
+                 pixels at 1, 2 or 3 of the four positions of each 2×2 pixel quad; the others,
+                 where the BSDF has a delta lobe (a mirror, a glass), filled with the mean of their
+                 traced neighbours on the object (checkerboard rendering), elsewhere the raster
+                 layer (``hybrid_integrator/selection.py``), where before the budget bought
                  nothing more once the next object did not fit whole (default off: on the H100 it
                  cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061 and helped the
-                 showcase, but made Sponza's and the dining room's 25 % frames worse, 0.287 to
-                 0.414 and 0.401 to 0.719, for a cause not yet found: docs/results/gpu/issue10/stop69;
+                 showcase, but made the dining room's 25 % frames worse, 0.400 to 0.606, for a
+                 cause not yet found: docs/results/gpu/issue10/stop70;
                  ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues
