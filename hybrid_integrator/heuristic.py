@@ -22,8 +22,9 @@ non-candidates; ``""`` means none.
   pixel per kind learnt from the rays its paths spawned when k was last traced, at every depth
   (a glass object's paths also cast shadow rays where they reach a diffuse surface); before k is
   first traced, a prior for its own kinds: per kind, the median of what the objects traced so far
-  that deserve it spawned per pixel (:func:`typical_rays`), and before any was, shadow 1,
-  reflection 1, refraction 2, indirect 1 (a diffuse object's full paths spawn ~4 rays per pixel,
+  that deserve it spawned per pixel (:func:`typical_rays`; a shadow tier: the tiers traced so
+  far), and before any was, shadow 1, reflection 1, refraction 2, indirect 1 (a diffuse
+  object's full paths spawn ~4 rays per pixel,
   so the fixed prior alone made a newly seen object cost 2–3× what was planned, and the frame miss
   its budget);
 - **C_k = V_k · Q_k** (eq. 2), reported as the paper defines it. The budget is in milliseconds,
@@ -413,15 +414,20 @@ class Candidates:
 SHADOW_KIND = np.array([k == "shadow" for k in KINDS])
 
 
-def typical_rays(rays_table: np.ndarray, active: np.ndarray) -> np.ndarray:
+def typical_rays(rays_table: np.ndarray, active: np.ndarray, tier: bool = False) -> np.ndarray:
     """Per kind (KINDS order), the prior rays per pixel of a row never traced: the median over
-    the learnt rows (``rays_table``, rows × kinds: the objects', then their shadow tiers') whose
-    object deserves that kind (``active``, objects × kinds; a tier: shadow only), or
-    ``PRIOR_RAYS_PER_PIXEL`` while no such row is learnt. Every kind's median from one sort of
-    the table, the rows not chosen sorted last as +inf (this runs once a frame, on the host: at
-    2 000 objects 0.045 ms, docs/results/gpu/issue10/stop64/plan_time.py; one statistics-module
-    median per kind before))."""
-    deserves = np.vstack([active, np.broadcast_to(SHADOW_KIND, active.shape)])[:len(rays_table)]
+    the learnt objects' rows (``rays_table``, rows × kinds: the objects', then their shadow
+    tiers') whose object deserves that kind (``active``, objects × kinds), or
+    ``PRIOR_RAYS_PER_PIXEL`` while no such row is learnt. With ``tier``, the prior of a shadow
+    tier: the median over the learnt tiers' rows (shadow only). The two apart: an object's full
+    paths cast a shadow ray at every vertex that is not a mirror's, a tier one per pixel; with the
+    objects' median an untried tier was planned at four times its rays (2 337 888 predicted,
+    601 934 traced on the H100), and a 25 % budget took the dining room's large tiers only at its
+    18th frame (docs/results/gpu/issue10/stop70). Every kind's median from one sort of the table,
+    the rows not chosen sorted last as +inf (this runs once a frame, on the host: at 2 000 objects
+    0.045 ms, docs/results/gpu/issue10/stop64/plan_time.py; one statistics-module median per kind
+    before))."""
+    deserves = np.vstack([active & (not tier), np.broadcast_to(SHADOW_KIND & tier, active.shape)])[:len(rays_table)]
     chosen = np.isfinite(rays_table[:, :1]) & deserves  # a row is learnt whole (budget.blend_rows)
     fixed = np.array([PRIOR_RAYS_PER_PIXEL[k] for k in KINDS])
     if not len(rays_table):
@@ -480,8 +486,10 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     per_pixel = rows_of(rays_table, keys)
     new = np.isnan(per_pixel[:, 0])  # rows never traced (a row is learnt whole): the prior of their own kinds
     if new.any():
-        kinds = np.where(tier[new, None], SHADOW_KIND, active[index[new]])
-        per_pixel[new] = kinds * typical_rays(rays_table, active)
+        per_pixel[new] = active[index[new]] * typical_rays(rays_table, active)
+        tiers_new = new & tier
+        if tiers_new.any():  # a shadow tier expects what the tiers traced (typical_rays)
+            per_pixel[tiers_new] = SHADOW_KIND * typical_rays(rays_table, active, tier=True)
     pixels = cov.pixels[index]
     relevance = terms.bonus[index] + terms.visibility[index] * weights
     expected = pixels if growth is None else pixels * growth[index]

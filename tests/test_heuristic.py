@@ -100,7 +100,7 @@ def test_learnt_rays_and_effects_filter():
 
 def test_an_object_never_traced_expects_what_the_traced_ones_spawned():
     """The prior rays per pixel of an object never traced (heuristic.typical_rays): per kind, the
-    median of the learnt objects that deserve it (a shadow tier: shadow only); the fixed prior for
+    median of the learnt objects that deserve it (not their shadow tiers'); the fixed prior for
     a kind no learnt object deserves."""
     from hybrid_integrator.heuristic import PRIOR_RAYS_PER_PIXEL, typical_rays
 
@@ -110,14 +110,37 @@ def test_an_object_never_traced_expects_what_the_traced_ones_spawned():
     table[1] = [3.0, 0.2, 0.0, 2.0]
     table[5] = [5.0, 0.0, 0.0, 0.0]  # the shadow tier of object 1
     prior = typical_rays(table, active)
-    # shadow: objects 0, 1 and object 1's tier; indirect: objects 0 and 1; reflection: no object
-    # deserves it; refraction: object 3 does, never traced
-    assert prior.tolist() == [3.0, PRIOR_RAYS_PER_PIXEL["reflection"], PRIOR_RAYS_PER_PIXEL["refraction"], 1.8]
+    # shadow and indirect: objects 0 and 1; reflection: no object deserves it; refraction: object 3
+    # does, never traced
+    assert prior.tolist() == [2.5, PRIOR_RAYS_PER_PIXEL["reflection"], PRIOR_RAYS_PER_PIXEL["refraction"], 1.8]
+    assert typical_rays(table, active, tier=True)[0] == 5.0  # object 1's tier
     cov = synthetic_buffer()
     objects = object_relevance(cov, [("shadow", "indirect"), ("shadow", "indirect")], ["a", "b"],
                                ("shadow", "indirect"), set(), 0.0, rays_per_pixel={1: {"shadow": 2.5, "indirect": 1.5}})
     assert {o.index: o.rays for o in objects}[0] == {"shadow": 4 * 2.5, "indirect": 4 * 1.5}
     assert typical_rays(np.empty((0, len(KINDS))), active).tolist() == [PRIOR_RAYS_PER_PIXEL[k] for k in KINDS]
+
+
+def test_a_shadow_tier_never_traced_expects_what_the_tiers_traced():
+    """A shadow tier casts one shadow ray per pixel, an object's full paths one per diffuse vertex:
+    the prior of a tier never traced is the median of the learnt tiers (the fixed shadow prior
+    while none is), not of the objects traced whole (heuristic.typical_rays(tier=True)); the rows of
+    ``candidates`` take it."""
+    from hybrid_integrator.heuristic import PRIOR_RAYS_PER_PIXEL, candidates, typical_rays
+
+    active = np.array([[1, 0, 0, 1], [1, 0, 0, 1]], dtype=bool)
+    table = np.full((4, len(KINDS)), np.nan)
+    table[0] = [4.0, 0.0, 0.0, 1.0]  # object 0 traced whole: four shadow rays per pixel
+    assert typical_rays(table, active, tier=True)[0] == PRIOR_RAYS_PER_PIXEL["shadow"]
+    assert typical_rays(table, active)[0] == 4.0
+    table[2] = [1.2, 0.0, 0.0, 0.0]  # object 0's tier traced
+    assert typical_rays(table, active, tier=True)[0] == 1.2 and typical_rays(table, active)[0] == 4.0
+    cov = synthetic_buffer()
+    c = candidates(cov, active, set(), 0.0, table, tiers=np.array([True, True]))
+    rows = {(int(i), bool(t)): r for i, t, r in zip(c.index, c.tier, c.rays)}
+    pixels = dict(zip(c.index.tolist(), c.pixels.tolist()))
+    assert rows[(1, True)].tolist() == [1.2 * pixels[1], 0.0, 0.0, 0.0]  # object 1's tier, never traced
+    assert rows[(1, False)].tolist() == [4.0 * pixels[1], 0.0, 0.0, 1.0 * pixels[1]]  # object 1 whole, never traced
 
 
 def test_the_plans_table_helpers_equal_numpys_reductions():

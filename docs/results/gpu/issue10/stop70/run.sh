@@ -5,6 +5,8 @@
 #   bash docs/results/gpu/issue10/stop70/run.sh probe SCENE...   # on a warm device machine, after
 #     `bash docs/results/gpu/issue10/stop31/extras.sh N` for N = 1 ... 6 (each carrying .device_xN), carrying .device:
 #     stop 69's partial_probe.py with the RT baseline's row (--rt), 1280x720, cuda_ad_rgb
+#   bash docs/results/gpu/issue10/stop70/run.sh tiers      # 40 frames of stop 69's partial_diag.py on the dining
+#     room, then partial_probe.py at 25 %: the shadow tiers' prior rays per pixel from the tiers traced (heuristic.typical_rays)
 mode=$1; shift
 case $mode in
   fill)
@@ -22,5 +24,12 @@ case $mode in
       timeout $((590 - SECONDS + T0)) python3 docs/results/gpu/issue10/stop69/partial_probe.py --variant cuda_ad_rgb --rt \
         $D scenes/$s.xml 2>&1 | grep -v "Warn\|jit_optix_log\|^	\|^Info" | tee -a $OUT/partial_probe.txt
     done ;;
+  tiers)
+    source docs/results/gpu/issue10/stop31/env.sh
+    mkdir -p $OUT
+    timeout 60 python3 docs/results/gpu/issue10/stop69/partial_diag.py --variant cuda_ad_rgb --frames 40 $D \
+      scenes/dining_room.xml 2>&1 | grep -v "Warn\|jit_optix_log\|^	\|^Info" | tee $OUT/partial_diag_tiers.txt
+    timeout 200 python3 docs/results/gpu/issue10/stop69/partial_probe.py --variant cuda_ad_rgb --budgets 0.25 --frames 30 \
+      $D scenes/dining_room.xml 2>&1 | grep -v "Warn\|jit_optix_log\|^	\|^Info" | tee $OUT/partial_probe_tiers.txt ;;
   *) echo "unknown mode $mode" >&2; exit 2 ;;
 esac
