@@ -423,7 +423,7 @@ def typical_rays(rays_table: np.ndarray, active: np.ndarray, tier: bool = False)
     paths cast a shadow ray at every vertex that is not a mirror's, a tier one per pixel; with the
     objects' median an untried tier was planned at four times its rays (2 337 888 predicted,
     601 934 traced on the H100), and a 25 % budget took the dining room's large tiers only at its
-    18th frame (docs/results/gpu/issue10/stop70). Every kind's median from one sort of the table,
+    18th frame (docs/results/gpu/issue10/stop71). Every kind's median from one sort of the table,
     the rows not chosen sorted last as +inf (this runs once a frame, on the host: at 2 000 objects
     0.045 ms, docs/results/gpu/issue10/stop64/plan_time.py; one statistics-module median per kind
     before))."""

@@ -36,7 +36,7 @@ independent from pixel to pixel). On the CPU at 320×180 (FLIP of the denoised f
 ``path``, 1–3 quarters): the glass Armadillo 0.0615 / 0.0570 / 0.0494 filled against
 0.1288 / 0.0885 / 0.0602 not, but its diffuse floor 0.3005 / 0.2746 / 0.2108 filled against
 0.2077 / 0.2040 / 0.2041 not, and the dining room's largest diffuse object 0.8019 / 0.7595 /
-0.6822 against 0.7195 / 0.6853 / 0.6366 (docs/results/gpu/issue10/stop70).
+0.6822 against 0.7195 / 0.6853 / 0.6366 (docs/results/gpu/issue10/stop71).
 """
 from __future__ import annotations
 

@@ -128,7 +128,7 @@ Properties
                  nothing more once the next object did not fit whole (default off: on the H100 it
                  cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061 and helped the
                  showcase, but made the dining room's 25 % frames worse, 0.400 to 0.606, for a
-                 cause not yet found: docs/results/gpu/issue10/stop70;
+                 cause not yet found: docs/results/gpu/issue10/stop71;
                  ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues

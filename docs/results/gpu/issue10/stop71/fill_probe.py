@@ -1,4 +1,4 @@
-"""Stop 70 probe: which left-out pixels of an object traced in part should be filled.
+"""Stop 71 probe: which left-out pixels of an object traced in part should be filled.
 
 For each object named, a still camera's frames (``hi.render_sequence``, 1 spp, denoised as by
 default) with a plan forced on every frame: nothing traced, 1, 2 or 3 quarters of the object
@@ -8,7 +8,7 @@ glass's), ``all`` (stop 69's rule) or ``none`` (every left-out pixel keeps the r
 frozen pass is recorded once per process, so each ``--fill`` runs in its own process. Prints the
 FLIP of the last frame against ``path`` at ``--gt-spp`` (``metrics.py``).
 
-    python3 docs/results/gpu/issue10/stop70/fill_probe.py scenes/armadillo_glass.xml armadillo floor --fill all \\
+    python3 docs/results/gpu/issue10/stop71/fill_probe.py scenes/armadillo_glass.xml armadillo floor --fill all \\
         -D resx=320 -D resy=180 -D models_dir=../shared/scenes/models
 """
 import argparse
