@@ -485,11 +485,11 @@ def candidates(cov: Coverage, active: np.ndarray, selected_last: set[int], impor
     weights = error_weights(keys, errors, unlearnt=np.where(tier, 0.0, 1.0))
     per_pixel = rows_of(rays_table, keys)
     new = np.isnan(per_pixel[:, 0])  # rows never traced (a row is learnt whole): the prior of their own kinds
-    if new.any():
-        per_pixel[new] = active[index[new]] * typical_rays(rays_table, active)
-        tiers_new = new & tier
-        if tiers_new.any():  # a shadow tier expects what the tiers traced (typical_rays)
-            per_pixel[tiers_new] = SHADOW_KIND * typical_rays(rays_table, active, tier=True)
+    for sort in (False, True):  # objects, then shadow tiers: each expects what its own sort traced (typical_rays)
+        fresh = new & (tier == sort)
+        if fresh.any():
+            kinds = SHADOW_KIND if sort else active[index[fresh]]
+            per_pixel[fresh] = kinds * typical_rays(rays_table, active, tier=sort)
     pixels = cov.pixels[index]
     relevance = terms.bonus[index] + terms.visibility[index] * weights
     expected = pixels if growth is None else pixels * growth[index]
