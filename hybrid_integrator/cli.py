@@ -77,6 +77,9 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
                    help="add each object's ambient light learnt from its traced pixels to the raster layer (default: on)")
     g.add_argument("--shadow-tier", dest="shadow_tier", action=argparse.BooleanOptionalAction, default=None,
                    help="with a budget, diffuse objects may be traced by their shadow rays alone (default: on)")
+    g.add_argument("--partial-objects", dest="partial_objects", action=argparse.BooleanOptionalAction, default=None,
+                   help="with a budget, what the selection leaves buys a part of one more object's pixels "
+                        "(default: off)")
     g.add_argument("--raster-ahead", dest="raster_ahead", choices=("auto", "on", "off"),
                    help="a still camera's frame draws the next frame's visibility buffer at its end, run by OpenGL "
                         "once the frame's CUDA work is done (default: auto, on with CUDA-OpenGL interop)")
@@ -90,7 +93,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
 
 def _properties(args) -> dict:
     names = ("primary", "raster", "refine", "outline", "effects", "candidates", "blend", "max_depth", "rr_depth", "rr_tail_depth", "rr_tail_prob", "secondary_spp", "budget_ms", "hide_emitters", "denoise",
-             "denoise_quality", "learn_ambient", "shadow_tier", "raster_ahead", "stage_times", "timing_interval")
+             "denoise_quality", "learn_ambient", "shadow_tier", "partial_objects", "raster_ahead", "stage_times", "timing_interval")
     return {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
 
 
