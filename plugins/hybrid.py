@@ -126,9 +126,9 @@ Properties
                  traced neighbours on the object (checkerboard rendering), elsewhere the raster
                  layer (``hybrid_integrator/selection.py``), where before the budget bought
                  nothing more once the next object did not fit whole (default off: on the H100 it
-                 cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061 and helped the
-                 showcase, but made the dining room's 25 % frames worse, 0.400 to 0.606, for a
-                 cause not yet found: docs/results/gpu/issue10/stop71;
+                 cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061, but whether a
+                 process buys that part depends on the cost model's first fit, and the showcase's
+                 50 % frame came out worse with a part in one run: docs/results/gpu/issue10/stop72;
                  ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues
