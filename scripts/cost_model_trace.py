@@ -28,6 +28,7 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=12)
     parser.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE")
     parser.add_argument("--json", type=Path, default=None, help="write the frames' observations here")
+    parser.add_argument("--partial-objects", action="store_true", help="the integrator's partial_objects")
     args = parser.parse_args()
 
     import json
@@ -49,7 +50,7 @@ def main() -> None:
     for fraction in args.fraction:
         budget = fraction * trace_all
         print(f"all candidates: trace {trace_all:.2f} ms; budget {budget:.2f} ms ({fraction:.0%})")
-        integrator = hi.api._integrator({"budget_ms": budget})
+        integrator = hi.api._integrator({"budget_ms": budget, "partial_objects": args.partial_objects})
         frames, last = [], None
         for k in range(args.frames):
             stats = integrator.render_result(scene, seed=k, spp=1, layers=False).stats
@@ -60,7 +61,8 @@ def main() -> None:
             rates = " ".join(f"{kind} {rate:.2e}" for kind, rate in model.rates.items())
             print(f"{k:3d}  trace {stats.times_ms['trace']:6.2f}  predicted {stats.predicted_trace_ms:6.2f}  "
                   f"t0 {model.launch_ms:6.2f}  margin {model.margin:4.2f}  rates {rates}  "
-                  f"traced {list(stats.selected)} (shadow tiers {list(stats.shadow_only)})")
+                  f"traced {list(stats.selected)} (shadow tiers {list(stats.shadow_only)}; part "
+                  f"{stats.partial_object or '-'} {stats.partial_quarters}/4)")
             frames.append({"trace_ms": stats.times_ms["trace"], "predicted_ms": stats.predicted_trace_ms,
                            "pixels": stats.pixels_traced, "selected": list(stats.selected),
                            "shadow_only": list(stats.shadow_only),
