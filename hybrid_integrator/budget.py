@@ -324,11 +324,11 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     per-pass budget less the launch cost of the trace call, except while the cost model is not
     yet calibrated, when the most relevant object, the next two, then the four most relevant are
     traced, whatever the budget (probes that measure the machine, :func:`_probe`; whole objects,
-    not shadow tiers). ``nested`` and ``greedy``
-    run on the arrays; ``graph`` and ``exact`` (yardsticks) on one node per candidate
-    (``selection_graph``). An object's whole row and its shadow tier are two options of one
-    object: it is traced, and charged, once (``selection_graph``'s options of one object).
-    With ``partial``, the budget the selection leaves buys a part of one more object (:func:`_part`)."""
+    not shadow tiers). ``nested`` and ``greedy`` run on the arrays; ``graph`` and ``exact``
+    (yardsticks) on one node per candidate (``selection_graph``). An object's whole row and its
+    shadow tier are two options of one object: it is traced, and charged, once
+    (``selection_graph``'s options of one object). With ``partial``, the budget the selection
+    leaves buys a part of one more object (:func:`_part`)."""
     c = objects if isinstance(objects, Candidates) else _as_candidates(objects)
     if budget_ms <= 0:
         return _plan(c, np.arange(len(c)), float("inf"))
@@ -349,16 +349,19 @@ def plan_frame(objects, method: str, budget_ms: float, spp: int, model: CostMode
     return _plan(c, picked, pass_budget, partial=_part(c, picked, cost, room) if partial else None)
 
 
+#: the uncalibrated model's three probes, as slices of the whole rows ranked by relevance
+#: (:func:`_probe`): the most relevant, the next two, the first four
+PROBES = (slice(0, 1), slice(1, 3), slice(0, 4))
+
+
 def _probe(ranked: np.ndarray, k: int) -> np.ndarray:
-    """The rows the ``k``-th probe of an uncalibrated model traces, of whole rows ``ranked`` by
-    relevance: the first, then the next two, then the first four. Their ray counts differ, which
-    separates t0 from the rates, and no two are one mix where two objects are visible (the first
-    alone, the second alone, both): a trace is not additive in its objects (one kernel runs every
-    path to its end, so an object's long paths overlap the others' work: on an H100 the glass
-    Armadillo took 4.2 ms alone and 2.75 ms more beside the floor's 2.6; stop 73), and probes of
-    1, 2 and 4 objects never traced the second without the first, so the first calibrated plan
-    priced it alone at its share of a joint launch (stop 72: 2.57 ms predicted, 4.21 measured)."""
-    return ranked[1:3] if k == 1 and len(ranked) > 1 else ranked[:1 if k == 0 else 4]
+    """The rows the ``k``-th probe traces (``PROBES``; a lone object: it, each time). Their ray
+    counts differ, which separates t0 from the rates, and no two probes trace one mix where two
+    objects are visible (each alone, then both). A trace is not additive in its objects: one
+    kernel runs every path to its end, so an object's long paths overlap the others' work, and
+    probes of the 1, 2 and 4 most relevant never traced the second without the first (stop 72:
+    the glass Armadillo alone planned at 2.57 ms, 4.21 measured on an H100; stop 73)."""
+    return ranked[PROBES[k] if len(ranked) > 1 else PROBES[0]]
 
 
 def _tier_of_whole(c: Candidates) -> np.ndarray:
