@@ -227,7 +227,9 @@ def test_frames_in_turn_take_the_hosts_speed_and_ratios_split_by_it():
                            frames=3, spp=1, seed=0, warmup=1, host_speed=True)
     assert all(len(v) == 3 and all(t["host_loop"] > 0 and t["total"] > 0 for t in v) for v in times.values())
     split = paired_ratio_by_host(times, "raytrace", "raster")
-    assert 0 < split["fast_share"] <= 1 and split["fast"]["pairs"] + (split["slow"] or {"pairs": 0})["pairs"] == 3
+    # a busy host may leave no round fast (both frames' loops within FAST_HOST x the fastest)
+    pairs = {label: (split[label] or {"pairs": 0})["pairs"] for label in ("fast", "slow")}
+    assert pairs["fast"] + pairs["slow"] == 3 and split["fast_share"] == pairs["fast"] / 3
     # rounds of 2 measured frames (block 3): round 0 fast on both sides, round 1 slow on one frame
     frame = lambda total, loop: {"total": total, "host_loop": loop}
     made = {"rt": [frame(8.0, 0.10), frame(8.0, 0.11), frame(8.0, 0.10), frame(8.0, 0.10)],
