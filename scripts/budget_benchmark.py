@@ -27,6 +27,9 @@
    every ``timing_interval``-th frame, and learns from those alone (stop 59); frames within budget
    + 10 % are counted over those timed frames.
 
+``--partial-objects`` runs every budgeted side with the integrator's ``partial_objects`` (what the
+selection leaves buys a part of one more object); the table counts the frames that bought one.
+
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU, 640×360
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
 
@@ -61,7 +64,8 @@ def run(hi, scene, cameras, **props) -> list[dict]:
              "predicted_ms": f.stats.predicted_trace_ms, "pixels_traced": f.stats.pixels_traced,
              "selected": len(f.stats.selected), "visible": f.stats.candidates_visible,
              "relevance_captured": f.stats.relevance_captured, "selection_changes": f.stats.selection_changes,
-             "secondary_rays": f.stats.secondary_rays, "predicted_rays": f.stats.predicted_rays} for i, f in enumerate(frames)]
+             "secondary_rays": f.stats.secondary_rays, "predicted_rays": f.stats.predicted_rays,
+             "partial_quarters": f.stats.partial_quarters} for i, f in enumerate(frames)]
 
 
 def summary(frames: list[dict], budget: float) -> dict:
@@ -75,6 +79,7 @@ def summary(frames: list[dict], budget: float) -> dict:
             "mean_selection_changes": float(np.mean([f["selection_changes"] for f in measured[1:]])),
             "mean_selected": float(np.mean([f["selected"] for f in measured])),
             "mean_visible": float(np.mean([f["visible"] for f in measured])),
+            "frames_with_part": float(np.mean([f["partial_quarters"] > 0 for f in measured])),
             **rays_predicted(measured)}
 
 
@@ -94,6 +99,8 @@ def main() -> None:
     parser.add_argument("--resx", type=int, default=640)
     parser.add_argument("--resy", type=int, default=360)
     parser.add_argument("--importance", type=float, default=0.01, help="I > 0 for the hysteresis run")
+    parser.add_argument("--partial-objects", action="store_true",
+                        help="every budgeted run with the integrator's partial_objects (default: off, as it ships)")
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs/results/cpu/budget")
     args = parser.parse_args()
 
@@ -104,8 +111,10 @@ def main() -> None:
     hi.register()
     scene, cameras = path_scene(hi, args.scene, args.frames, resx=args.resx, resy=args.resy)
 
+    part = {"partial_objects": True} if args.partial_objects else {}
+
     def sequence(**props):
-        return run(hi, scene, cameras, **props)
+        return run(hi, scene, cameras, **(props | part if "budget_ms" in props else props))
 
     run(hi, scene, cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
     run(hi, scene, cameras[:2], primary="raytrace")
@@ -130,7 +139,7 @@ def main() -> None:
     from hybrid_integrator.bench import (FAST_HOST, TURN_BLOCK, frames_in_turn, paired_ratio, paired_ratio_by_host,
                                          path_cameras, turn_poses)
     warm = PROBES + 2  # the budget's probe frames, then two to settle
-    sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms}}
+    sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms} | part}
 
     def in_turn(label: str, turn_sides: dict, warmup: int, block: int = 1) -> tuple[dict, dict, dict]:
         """The two sides in turn along the path (the host's speed taken before each frame): their
@@ -153,7 +162,8 @@ def main() -> None:
     print("frames of the 50 % side as shipped", shipped_within, flush=True)
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
-               f"--resx {args.resx} --resy {args.resy} --importance {args.importance}")
+               f"--resx {args.resx} --resy {args.resy} --importance {args.importance}"
+               + (" --partial-objects" if args.partial_objects else ""))
     from hybrid_integrator.raster.context import machine as machine_of
     machine = machine_of()
     args.output.parent.mkdir(parents=True, exist_ok=True)
@@ -187,14 +197,15 @@ def main() -> None:
           f"by the host's speed {_by_host(shipped_by_host)}; within budget + 10 %: "
           f"{shipped_within['within_budget_plus_10']:.0%} of the {shipped_within['timed_frames']} timed frames "
           f"(of {shipped_within['frames']}).", "",
-          "| run | budget ms | frames that trace | frames within budget + 10 % | median / max trace ms | median frame ms | RT baseline / frame | relevance captured | selection changes per frame | objects traced / visible | rays / planned (median) | frames over 1.5× the planned rays |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+          "| run | budget ms | frames that trace | frames within budget + 10 % | median / max trace ms | median frame ms | RT baseline / frame | relevance captured | selection changes per frame | objects traced / visible | frames with a part | rays / planned (median) | frames over 1.5× the planned rays |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, s in summaries.items():
         within = "–" if s["within_budget_plus_10"] is None else f"{s['within_budget_plus_10']:.0%}"
         budget = f"{budgets[name]:.2f}" if name in budgets else "–"
         md.append(f"| {name} | {budget} | {s['frames_tracing']:.0%} | {within} | {s['median_trace_ms']:.2f} / {s['max_trace_ms']:.2f} | "
                   f"{s['median_frame_ms']:.2f} | {rt_ms / s['median_frame_ms']:.2f} | {s['mean_relevance_captured']:.3f} | "
                   f"{s['mean_selection_changes']:.2f} | {s['mean_selected']:.1f} / {s['mean_visible']:.1f} | "
+                  f"{s['frames_with_part']:.0%} | "
                   + ("– | – |" if budget == "–" else f"{s['median_rays_over_predicted']:.2f} | {s['frames_rays_over_1_5']:.0%} |"))
     args.output.with_suffix(".md").write_text("\n".join(md) + "\n")
     _plot(args.output.with_suffix(".png"), {k: v for k, v in runs.items() if not k.startswith("RT")}, budgets)
