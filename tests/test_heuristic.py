@@ -143,6 +143,23 @@ def test_a_shadow_tier_never_traced_expects_what_the_tiers_traced():
     assert rows[(1, False)].tolist() == [4.0 * pixels[1], 0.0, 0.0, 1.0 * pixels[1]]  # object 1 whole, never traced
 
 
+def test_a_shadow_tier_is_never_worth_more_than_its_object_whole():
+    """A tier's learnt error is the raster layer's less an estimate of what the tier leaves, which
+    comes out below zero where the tier leaves almost nothing: its relevance is capped at its
+    object's whole row's (``heuristic.candidates``), and a tier that leaves some error keeps its
+    own, lower relevance."""
+    from hybrid_integrator.heuristic import candidates
+
+    active = np.array([[1, 0, 0, 1], [1, 0, 0, 1]], dtype=bool)
+    table = np.tile([[2.0, 0.0, 0.0, 1.0]], (4, 1))  # every row traced before
+    errors = np.array([0.5, 0.4, 0.7, 0.1])  # rows: object 0, object 1, their tiers (0's above its whole)
+    c = candidates(synthetic_buffer(), active, set(), 0.0, table, errors, tiers=np.array([True, True]))
+    relevance = {(int(i), bool(t)): r for i, t, r in zip(c.index, c.tier, c.relevance)}
+    assert relevance[(0, True)] == relevance[(0, False)] > 0
+    assert 0 < relevance[(1, True)] < relevance[(1, False)]
+    assert relevance[(1, True)] / relevance[(1, False)] == pytest.approx(0.1 / 0.4)
+
+
 def test_the_plans_table_helpers_equal_numpys_reductions():
     """heuristic.rows_of / by_kind / any_kind (the plan's gathers and reductions over a
     rows × KINDS table, written as one gather, a matrix product and or-ed columns for speed) give
