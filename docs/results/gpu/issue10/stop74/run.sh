@@ -11,8 +11,10 @@ source docs/results/gpu/issue10/stop31/env.sh
 mkdir -p $OUT; T0=$SECONDS
 benches="scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml"
 quiet() { grep -v "Warn\|jit_optix_log\|^	\|^Info"; }
+# a step's limit: $1 s, within the call's 600 (at least 1: `timeout 0` would never stop it)
+left() { local rest=$((585 - SECONDS + T0)); rest=$((rest < $1 ? rest : $1)); echo $((rest < 1 ? 1 : rest)); }
 bench() {
-  timeout 200 python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1 \
+  timeout $(left 200) python3 -m hybrid_integrator.cli bench --variant cuda_ad_rgb --frames 20 --no-accuracy --max-path-spp 1 \
     --budgets 0.25 0.5 0.75 $D $benches -o $OUT/bench > $OUT/bench.log 2>&1
   echo "bench rc=$? after $((SECONDS - T0)) s"
   grep "^| [a-z_]* | [0-9]\|^| hybrid\|^| rt-" $OUT/bench/bench.md
@@ -20,14 +22,14 @@ bench() {
 budget() {
   for part in "" --partial-objects; do
     name=budget${part:+_partial}
-    timeout 150 python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --frames 50 --resx 1280 --resy 720 \
+    timeout $(left 200) python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --frames 50 --resx 1280 --resy 720 \
       --importance 0.01 $part -o $OUT/$name > $OUT/$name.log 2>&1
     echo "$name rc=$? after $((SECONDS - T0)) s"; grep "^RT baseline / 50\|^As a renderer\|^| nested\|^| greedy" $OUT/$name.md
   done
 }
 probe() {
   for s in $benches; do
-    timeout 150 python3 docs/results/gpu/issue10/stop69/partial_probe.py --variant cuda_ad_rgb --rt --frames 20 \
+    timeout $(left 150) python3 docs/results/gpu/issue10/stop69/partial_probe.py --variant cuda_ad_rgb --rt --frames 20 \
       --gt-spp 512 $D $s 2>&1 | quiet
     echo "($s after $((SECONDS - T0)) s)"
   done | tee $OUT/probe.txt
