@@ -129,6 +129,8 @@ Properties
                  cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061, but whether a
                  process buys that part depends on the cost model's first fit, and the showcase's
                  50 % frame came out worse with a part in one run: docs/results/gpu/issue10/stop72;
+                 and a part spends the budget ``nested`` leaves, on which the GPU path's 50 % frame
+                 being 1.5x faster than the RT baseline has rested: docs/results/gpu/issue10/stop74;
                  ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues
