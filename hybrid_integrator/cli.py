@@ -79,7 +79,7 @@ def _integrator_options(p: argparse.ArgumentParser) -> None:
                    help="with a budget, diffuse objects may be traced by their shadow rays alone (default: on)")
     g.add_argument("--partial-objects", dest="partial_objects", action=argparse.BooleanOptionalAction, default=None,
                    help="with a budget, what the selection leaves buys a part of one more object's pixels "
-                        "(default: off)")
+                        "(default: on)")
     g.add_argument("--raster-ahead", dest="raster_ahead", choices=("auto", "on", "off"),
                    help="a still camera's frame draws the next frame's visibility buffer at its end, run by OpenGL "
                         "once the frame's CUDA work is done (default: auto, on with CUDA-OpenGL interop)")

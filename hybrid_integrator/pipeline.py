@@ -161,7 +161,7 @@ class HybridSettings:
     shadow_tier: bool = True
     #: with a budget, what the selection leaves buys a part of one more object's pixels (1–3 of
     #: each 2×2 quad's four; mirrors and glass filled in between: ``selection.py``), not nothing
-    partial_objects: bool = False  # opt-in: stop72 (the 50 % part is not stable), stop74 (it spends what nested leaves)
+    partial_objects: bool = True  # default since stop 75 (docs/results/gpu/issue10/stop75); off: whole objects only
     raster_ahead: str = "auto"
     frames_in_flight: int = 1
     #: time each stage on the device (Dr.Jit's kernel history: ``FrameStats.times_ms``); off, a

@@ -26,7 +26,7 @@
         <integer name="secondary_spp" value="1"/>      <!-- paths traced from each primary hit -->
         <boolean name="learn_ambient" value="true"/>   <!-- raster layer + learnt ambient light -->
         <boolean name="shadow_tier" value="true"/>     <!-- budgets: shadow rays alone + learnt indirect -->
-        <boolean name="partial_objects" value="false"/> <!-- budgets: what is left buys part of an object -->
+        <boolean name="partial_objects" value="true"/>  <!-- budgets: what is left buys part of an object -->
         <string name="raster_ahead" value="auto"/>     <!-- or "on", "off": next frame's raster pass -->
         <integer name="frames_in_flight" value="1"/>   <!-- 2: the next frame issued while the GPU finishes this one -->
         <boolean name="stage_times" value="true"/>     <!-- false: no per-stage device times, a shorter frame -->
@@ -125,12 +125,12 @@ Properties
                  where the BSDF has a delta lobe (a mirror, a glass), filled with the mean of their
                  traced neighbours on the object (checkerboard rendering), elsewhere the raster
                  layer (``hybrid_integrator/selection.py``), where before the budget bought
-                 nothing more once the next object did not fit whole (default off: on the H100 it
-                 cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061, but whether a
-                 process buys that part depends on the cost model's first fit, and the showcase's
-                 50 % frame came out worse with a part in one run: docs/results/gpu/issue10/stop72;
-                 and a part spends the budget ``nested`` leaves, on which the GPU path's 50 % frame
-                 being 1.5x faster than the RT baseline has rested: docs/results/gpu/issue10/stop74;
+                 nothing more once the next object did not fit whole (default on since stop 75: on
+                 the H100 it cut the glass Armadillo's error at 50 % from FLIP 0.185 to 0.061;
+                 since stop 72 no frame with a part was worse than whole objects by more than the
+                 showcase's 50 % frame varies between runs, docs/results/gpu/issue10/stop71 and
+                 stop72; off, a budgeted frame traces whole objects only and leaves unspent what
+                 ``nested`` leaves, docs/results/gpu/issue10/stop75;
                  ``stats.partial_object`` and ``stats.partial_quarters`` say which and how much).
 ``raster_ahead`` where the next frame's pose is known (a camera that stood still since the frame
                  before, or the next pose of ``hi.render_sequence``'s camera path), a frame issues

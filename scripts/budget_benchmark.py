@@ -27,8 +27,9 @@
    every ``timing_interval``-th frame, and learns from those alone (stop 59); frames within budget
    + 10 % are counted over those timed frames.
 
-``--partial-objects`` runs every budgeted side with the integrator's ``partial_objects`` (what the
-selection leaves buys a part of one more object); the table counts the frames that bought one.
+``--partial-objects`` / ``--no-partial-objects`` runs every budgeted side with the integrator's
+``partial_objects`` on / off (what the selection leaves buys a part of one more object; default:
+as it ships, on since stop 75); the table counts the frames that bought one.
 
     python scripts/budget_benchmark.py -o docs/results/cpu/budget                         # CPU, 640×360
     python3 scripts/budget_benchmark.py --variant cuda_ad_rgb --resx 1280 --resy 720 -o $OUT/budget  # GPU
@@ -99,8 +100,8 @@ def main() -> None:
     parser.add_argument("--resx", type=int, default=640)
     parser.add_argument("--resy", type=int, default=360)
     parser.add_argument("--importance", type=float, default=0.01, help="I > 0 for the hysteresis run")
-    parser.add_argument("--partial-objects", action="store_true",
-                        help="every budgeted run with the integrator's partial_objects (default: off, as it ships)")
+    parser.add_argument("--partial-objects", action=argparse.BooleanOptionalAction, default=None,
+                        help="every budgeted run with the integrator's partial_objects on / off (default: as it ships, on)")
     parser.add_argument("-o", "--output", type=Path, default=ROOT / "docs/results/cpu/budget")
     args = parser.parse_args()
 
@@ -111,7 +112,7 @@ def main() -> None:
     hi.register()
     scene, cameras = path_scene(hi, args.scene, args.frames, resx=args.resx, resy=args.resy)
 
-    part = {"partial_objects": True} if args.partial_objects else {}
+    part = {} if args.partial_objects is None else {"partial_objects": args.partial_objects}
 
     def sequence(**props):
         return run(hi, scene, cameras, **(props | part if "budget_ms" in props else props))
@@ -163,7 +164,7 @@ def main() -> None:
 
     command = (f"python scripts/budget_benchmark.py --variant {args.variant} --frames {args.frames} "
                f"--resx {args.resx} --resy {args.resy} --importance {args.importance}"
-               + (" --partial-objects" if args.partial_objects else ""))
+               + {None: "", True: " --partial-objects", False: " --no-partial-objects"}[args.partial_objects])
     from hybrid_integrator.raster.context import machine as machine_of
     machine = machine_of()
     args.output.parent.mkdir(parents=True, exist_ok=True)

@@ -630,11 +630,11 @@ def test_cli_render_writes_exr_png_and_stats(tmp_path, capsys):
     stats = json.loads(capsys.readouterr().out)["stats"]
     assert stats["stages_timed"] is False and stats["times_ms"]["trace"] != stats["times_ms"]["trace"]  # NaN
     assert stats["times_ms"]["total"] > 0
-    # --partial-objects reaches the integrator as its property (Mitsuba refuses an unknown one)
+    # --no-partial-objects reaches the integrator as its property (Mitsuba refuses an unknown one)
     assert cli(["render", str(DEFAULT_SCENE), "-o", str(out), "-D", "resx=64", "-D", "resy=48", "--budget-ms", "5",
-                "--partial-objects"]) == 0
+                "--no-partial-objects"]) == 0
     stats = json.loads(capsys.readouterr().out)["stats"]
-    assert stats["budget_ms"] == 5
+    assert stats["budget_ms"] == 5 and stats["partial_quarters"] == 0
 
 
 def test_cli_compare_reports_time_and_error(tmp_path, capsys, monkeypatch):
