@@ -7,6 +7,8 @@
 #   bash docs/results/gpu/issue10/stop74/run.sh budget  # budget_benchmark.py (item 4, 226 objects' path), parts off / on
 #   bash docs/results/gpu/issue10/stop74/run.sh probe   # stop 69's partial_probe.py, whole / with a part, 25-75 %, RT row
 # The A/B of the probes against the tree before them: stop 73's `run.sh diag 0.5 armadillo_glass` with .w44 = e06ce72.
+# Since stop 75 parts are on by default, so `budget` here runs them on twice: use stop75/run.sh, which runs them off
+# (--no-partial-objects), then as shipped.
 source docs/results/gpu/issue10/stop31/env.sh
 mkdir -p $OUT; T0=$SECONDS
 benches="scenes/armadillo_glass.xml scenes/showcase.xml scenes/sponza_mirror.xml scenes/dining_room.xml"
