@@ -114,8 +114,12 @@ def main() -> None:
 
     part = {} if args.partial_objects is None else {"partial_objects": args.partial_objects}
 
+    def budgeted(props: dict) -> dict:
+        """A side's integrator properties, with ``--[no-]partial-objects`` where it has a budget."""
+        return props | part if "budget_ms" in props else props
+
     def sequence(**props):
-        return run(hi, scene, cameras, **(props | part if "budget_ms" in props else props))
+        return run(hi, scene, cameras, **budgeted(props))
 
     run(hi, scene, cameras[:2])  # warm-up: kernels, geometry upload, frozen recordings
     run(hi, scene, cameras[:2], primary="raytrace")
@@ -140,7 +144,7 @@ def main() -> None:
     from hybrid_integrator.bench import (FAST_HOST, TURN_BLOCK, frames_in_turn, paired_ratio, paired_ratio_by_host,
                                          path_cameras, turn_poses)
     warm = PROBES + 2  # the budget's probe frames, then two to settle
-    sides = {"rt": {"primary": "raytrace"}, "budget": {"budget_ms": 0.5 * all_ms} | part}
+    sides = {"rt": {"primary": "raytrace"}, "budget": budgeted({"budget_ms": 0.5 * all_ms})}
 
     def in_turn(label: str, turn_sides: dict, warmup: int, block: int = 1) -> tuple[dict, dict, dict]:
         """The two sides in turn along the path (the host's speed taken before each frame): their
